@@ -1,0 +1,168 @@
+//! What one converged step produced: displacements, reactions, bar forces, interface point results
+//! and soil stresses, with the sign conventions of docs/model-format.md.
+
+use super::system::{self, ElementMatrices, InterfaceRows};
+use super::State;
+use crate::element::{bar, solid};
+use crate::interface::{NormalState, ShearLaw};
+use crate::model::Model;
+
+#[derive(Debug, Clone)]
+pub struct Reaction {
+    pub node: u64,
+    /// `None` where the DOF is free.
+    pub rx: Option<f64>,
+    pub ry: Option<f64>,
+}
+
+#[derive(Debug, Clone)]
+pub struct BarForce {
+    pub bar: u64,
+    pub nodes: [u64; 2],
+    pub midpoint: [f64; 2],
+    /// Axial force per metre width, tension positive.
+    pub axial_force: f64,
+}
+
+#[derive(Debug, Clone)]
+pub struct InterfacePointResult {
+    pub interface: String,
+    pub face: String,
+    pub slave_node: u64,
+    pub x: [f64; 2],
+    pub master_nodes: [u64; 2],
+    pub xi: f64,
+    pub state: &'static str,
+    pub tributary: f64,
+    /// Normal multiplier (force per metre width), compression positive.
+    pub lambda: f64,
+    /// σn = λ/ℓ, compression positive.
+    pub sigma_n: f64,
+    /// Shear stress resisting positive slip.
+    pub tau: f64,
+    /// Slip along the slave line towards its first node (the pull-out direction).
+    pub slip: f64,
+}
+
+#[derive(Debug, Clone)]
+pub struct ElementStress {
+    pub element: u64,
+    pub point: usize,
+    pub x: [f64; 2],
+    /// σxx, σyy, τxy, σzz; tension positive.
+    pub stress: [f64; 4],
+}
+
+#[derive(Debug, Clone)]
+pub struct StepResults {
+    /// (node id, reference position, displacement).
+    pub displacements: Vec<(u64, [f64; 2], [f64; 2])>,
+    pub reactions: Vec<Reaction>,
+    pub bar_forces: Vec<BarForce>,
+    pub interface_points: Vec<InterfacePointResult>,
+    pub stresses: Vec<ElementStress>,
+    /// Reactions over every held DOF (2·node + d), zero where free.
+    pub reaction_vector: Vec<f64>,
+    pub displacement_vector: Vec<f64>,
+}
+
+impl StepResults {
+    pub fn compute(model: &Model, elements: &ElementMatrices, rows: &InterfaceRows, state: &State, held: &[bool]) -> Self {
+        let mesh = &model.mesh;
+        let n_dof = state.u.len();
+        let f_int = system::internal_force(elements, rows, &state.u);
+        let f_c = system::constraint_force(rows, &state.lambda, n_dof);
+        let reaction_vector: Vec<f64> =
+            (0..n_dof).map(|d| if held[d] { f_int[d] + f_c[d] - state.f_ext[d] } else { 0.0 }).collect();
+
+        let displacements =
+            mesh.nodes.iter().enumerate().map(|(i, n)| (n.id, n.x, [state.u[2 * i], state.u[2 * i + 1]])).collect();
+        let reactions = mesh
+            .nodes
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| held[2 * i] || held[2 * i + 1])
+            .map(|(i, n)| Reaction {
+                node: n.id,
+                rx: held[2 * i].then(|| reaction_vector[2 * i]),
+                ry: held[2 * i + 1].then(|| reaction_vector[2 * i + 1]),
+            })
+            .collect();
+        let bar_forces = mesh
+            .bars
+            .iter()
+            .map(|b| {
+                let (a, c) = (mesh.position(b.nodes[0]), mesh.position(b.nodes[1]));
+                let u = [state.u[2 * b.nodes[0]], state.u[2 * b.nodes[0] + 1], state.u[2 * b.nodes[1]], state.u[2 * b.nodes[1] + 1]];
+                BarForce {
+                    bar: b.id,
+                    nodes: [mesh.node_id(b.nodes[0]), mesh.node_id(b.nodes[1])],
+                    midpoint: [0.5 * (a[0] + c[0]), 0.5 * (a[1] + c[1])],
+                    axial_force: bar::axial_force(a, c, model.reinforcements[b.material].1.axial_stiffness, u),
+                }
+            })
+            .collect();
+
+        // Interface points: multipliers are in dofs::multipliers order.
+        let mut interface_points = Vec::new();
+        let mut k = 0usize;
+        for interface in &state.interfaces {
+            for face in &interface.faces {
+                for point in &face.points {
+                    let lambda = state.lambda[k];
+                    k += 1;
+                    let slip: f64 = system::row_dofs(&face.tangential_row(point)).iter().map(|&(d, c)| c * state.u[d]).sum();
+                    let tau = match &interface.law {
+                        ShearLaw::Tie => {
+                            let lt = state.lambda[k];
+                            k += 1;
+                            lt / point.tributary
+                        }
+                        law => law.shear_stiffness().unwrap_or(0.0) * slip,
+                    };
+                    let state_name = match point.normal_state {
+                        NormalState::Active => "active",
+                        NormalState::Released => "released",
+                        NormalState::Redundant { .. } => "redundant",
+                    };
+                    interface_points.push(InterfacePointResult {
+                        interface: interface.name.clone(),
+                        face: face.label.clone(),
+                        slave_node: mesh.node_id(point.slave),
+                        x: mesh.position(point.slave),
+                        master_nodes: [mesh.node_id(face.master[point.segment]), mesh.node_id(face.master[point.segment + 1])],
+                        xi: point.xi,
+                        state: state_name,
+                        tributary: point.tributary,
+                        lambda,
+                        sigma_n: lambda / point.tributary,
+                        tau,
+                        slip,
+                    });
+                }
+            }
+        }
+
+        let mut stresses = Vec::new();
+        for (s, e) in mesh.solids.iter().enumerate() {
+            let coords: Vec<[f64; 2]> = e.nodes.iter().map(|&n| mesh.position(n)).collect();
+            let ue: Vec<f64> = e.nodes.iter().flat_map(|&n| [state.u[2 * n], state.u[2 * n + 1]]).collect();
+            let m = model.soil(s);
+            let material = solid::PlaneStrain { youngs_modulus: m.youngs_modulus, poissons_ratio: m.poissons_ratio };
+            if let Ok(points) = solid::stresses(e.kind, &coords, &material, &ue) {
+                for (p, gs) in points.into_iter().enumerate() {
+                    stresses.push(ElementStress { element: e.id, point: p + 1, x: gs.x, stress: gs.stress });
+                }
+            }
+        }
+        StepResults {
+            displacements,
+            reactions,
+            bar_forces,
+            interface_points,
+            stresses,
+            reaction_vector,
+            displacement_vector: state.u.clone(),
+        }
+    }
+}

@@ -1,0 +1,224 @@
+//! The global system: element matrices computed once, the saddle-point matrix assembled in triplet
+//! form for a DOF map, internal forces, and the linear solver with its reuse bookkeeping.
+
+use crate::assembly::{CscMatrix, PatternCache, Triplets};
+use crate::dofs::DofMap;
+use crate::element::{bar, solid};
+use crate::error::SolveError;
+use crate::interface::{Interface, NormalState, Row};
+use crate::linsol::{self, Backend, Failure, LinearSolver};
+use crate::model::Model;
+use nalgebra::DMatrix;
+use std::time::Instant;
+
+/// Element stiffness matrices with their global DOF lists (2·node + d).
+pub struct ElementMatrices {
+    pub blocks: Vec<(Vec<usize>, DMatrix<f64>)>,
+}
+
+impl ElementMatrices {
+    pub fn compute(model: &Model) -> Self {
+        let mesh = &model.mesh;
+        let mut blocks = Vec::with_capacity(mesh.solids.len() + mesh.bars.len());
+        for (s, e) in mesh.solids.iter().enumerate() {
+            let coords: Vec<[f64; 2]> = e.nodes.iter().map(|&n| mesh.position(n)).collect();
+            let m = model.soil(s);
+            let material = solid::PlaneStrain { youngs_modulus: m.youngs_modulus, poissons_ratio: m.poissons_ratio };
+            // Validation has checked every Jacobian; a failure here would be a bug, not bad input.
+            let k = solid::stiffness(e.kind, &coords, &material).expect("element Jacobians were checked when the model was read");
+            blocks.push((dofs_of(&e.nodes), k));
+        }
+        for b in &mesh.bars {
+            let ea = model.reinforcements[b.material].1.axial_stiffness;
+            let k = bar::stiffness(mesh.position(b.nodes[0]), mesh.position(b.nodes[1]), ea);
+            blocks.push((dofs_of(&b.nodes), DMatrix::from_fn(4, 4, |i, j| k[(i, j)])));
+        }
+        ElementMatrices { blocks }
+    }
+}
+
+fn dofs_of(nodes: &[usize]) -> Vec<usize> {
+    nodes.iter().flat_map(|&n| [2 * n, 2 * n + 1]).collect()
+}
+
+/// A row as (global DOF, coefficient) pairs.
+pub fn row_dofs(row: &Row) -> Vec<(usize, f64)> {
+    row.iter().flat_map(|&(n, c)| [(2 * n, c[0]), (2 * n + 1, c[1])]).collect()
+}
+
+/// The rows of the multipliers and the springs, for the current association.
+pub struct InterfaceRows {
+    /// One per multiplier, in `DofMap::multipliers` order.
+    pub constraint_rows: Vec<Vec<(usize, f64)>>,
+    /// Tangential springs: (row, stiffness Ks·ℓ).
+    pub springs: Vec<(Vec<(usize, f64)>, f64)>,
+}
+
+impl InterfaceRows {
+    pub fn new(model: &Model, interfaces: &[Interface], dofs: &DofMap) -> Self {
+        let mut constraint_rows = Vec::with_capacity(dofs.multipliers.len());
+        for m in &dofs.multipliers {
+            let face = &interfaces[m.interface].faces[m.face];
+            let point = &face.points[m.point];
+            let row = if m.tangential { face.tangential_row(point) } else { face.normal_row(&model.mesh, point) };
+            constraint_rows.push(row_dofs(&row));
+        }
+        let mut springs = Vec::new();
+        for interface in interfaces {
+            if let Some(ks) = interface.law.shear_stiffness() {
+                for face in &interface.faces {
+                    for point in &face.points {
+                        springs.push((row_dofs(&face.tangential_row(point)), ks * point.tributary));
+                    }
+                }
+            }
+        }
+        InterfaceRows { constraint_rows, springs }
+    }
+}
+
+/// Whether multiplier `k` currently holds its row (true) or sits on a unit diagonal (false).
+pub fn multiplier_is_active(interfaces: &[Interface], dofs: &DofMap, k: usize) -> bool {
+    let m = dofs.multipliers[k];
+    let p = &interfaces[m.interface].faces[m.face].points[m.point];
+    let state = if m.tangential { &p.tangential_state } else { &p.normal_state };
+    matches!(state, NormalState::Active)
+}
+
+/// Assemble [K Cᵀ; C D] over the free DOFs and the multipliers, in a fixed triplet order.
+pub fn assemble(elements: &ElementMatrices, rows: &InterfaceRows, interfaces: &[Interface], dofs: &DofMap) -> Triplets {
+    let mut t = Triplets::default();
+    let eq = |d: usize| dofs.equation[d];
+    for (dl, k) in &elements.blocks {
+        for (a, &da) in dl.iter().enumerate() {
+            let Some(ia) = eq(da) else { continue };
+            for (b, &db) in dl.iter().enumerate() {
+                if let Some(ib) = eq(db) {
+                    t.push(ia, ib, k[(a, b)]);
+                }
+            }
+        }
+    }
+    for (row, k) in &rows.springs {
+        for &(da, ca) in row {
+            let Some(ia) = eq(da) else { continue };
+            for &(db, cb) in row {
+                if let Some(ib) = eq(db) {
+                    t.push(ia, ib, k * ca * cb);
+                }
+            }
+        }
+    }
+    for (k, row) in rows.constraint_rows.iter().enumerate() {
+        let m = dofs.multiplier_equation(k);
+        let active = multiplier_is_active(interfaces, dofs, k);
+        for &(d, c) in row {
+            if let Some(i) = eq(d) {
+                let c = if active { c } else { 0.0 };
+                t.push(m, i, c);
+                t.push(i, m, c);
+            }
+        }
+        t.push(m, m, if active { 0.0 } else { 1.0 });
+    }
+    t
+}
+
+/// f_int(u) over all displacement DOFs (elements and springs; the multipliers' Cᵀλ apart).
+pub fn internal_force(elements: &ElementMatrices, rows: &InterfaceRows, u: &[f64]) -> Vec<f64> {
+    let mut f = vec![0.0; u.len()];
+    for (dl, k) in &elements.blocks {
+        for (a, &da) in dl.iter().enumerate() {
+            let mut s = 0.0;
+            for (b, &db) in dl.iter().enumerate() {
+                s += k[(a, b)] * u[db];
+            }
+            f[da] += s;
+        }
+    }
+    for (row, k) in &rows.springs {
+        let s: f64 = row.iter().map(|&(d, c)| c * u[d]).sum();
+        for &(d, c) in row {
+            f[d] += k * s * c;
+        }
+    }
+    f
+}
+
+/// Cᵀλ over all displacement DOFs.
+pub fn constraint_force(rows: &InterfaceRows, lambda: &[f64], dof_count: usize) -> Vec<f64> {
+    let mut f = vec![0.0; dof_count];
+    for (row, l) in rows.constraint_rows.iter().zip(lambda) {
+        for &(d, c) in row {
+            f[d] += c * l;
+        }
+    }
+    f
+}
+
+/// Counts and times of the linear-algebra work, for the run summary.
+#[derive(Debug, Default, Clone, serde::Serialize)]
+pub struct SolverStats {
+    pub analyses: usize,
+    pub factorizations: usize,
+    pub solves: usize,
+    pub analyse_seconds: f64,
+    pub factorize_seconds: f64,
+    pub solve_seconds: f64,
+    pub max_relative_residual: f64,
+}
+
+/// A solver backend with the bookkeeping that lets it skip work: a new analysis only for a new
+/// pattern, a new factorisation only for new values.
+pub struct LinearSystem {
+    solver: Box<dyn LinearSolver>,
+    patterns: PatternCache,
+    factorized: Option<CscMatrix>,
+    pub stats: SolverStats,
+}
+
+impl LinearSystem {
+    pub fn new(backend: Backend) -> Result<Self, SolveError> {
+        Ok(LinearSystem {
+            solver: linsol::make(backend)?,
+            patterns: PatternCache::default(),
+            factorized: None,
+            stats: SolverStats::default(),
+        })
+    }
+
+    pub fn backend(&self) -> Backend {
+        self.solver.backend()
+    }
+
+    /// Solve A x = b for the assembled triplets. Returns x and the relative residual.
+    pub fn solve(&mut self, n: usize, triplets: &Triplets, rhs: &[f64]) -> Result<(Vec<f64>, f64), Failure> {
+        let (matrix, new_pattern) = self.patterns.assemble(n, triplets);
+        if new_pattern {
+            let t = Instant::now();
+            self.solver.analyse(&matrix.pattern)?;
+            self.stats.analyses += 1;
+            self.stats.analyse_seconds += t.elapsed().as_secs_f64();
+            self.factorized = None;
+        }
+        let same_values = self.factorized.as_ref().is_some_and(|f| f.values == matrix.values);
+        if !same_values {
+            let t = Instant::now();
+            self.solver.factorize(&matrix)?;
+            self.stats.factorizations += 1;
+            self.stats.factorize_seconds += t.elapsed().as_secs_f64();
+            self.factorized = Some(matrix.clone());
+        }
+        let t = Instant::now();
+        let x = self.solver.solve(rhs)?;
+        self.stats.solves += 1;
+        self.stats.solve_seconds += t.elapsed().as_secs_f64();
+        let residual = linsol::relative_residual(&matrix, &x, rhs);
+        if !x.iter().all(|v| v.is_finite()) || !(residual < 1e-6) {
+            // A numerically singular matrix: LU divides by a (near) zero pivot.
+            return Err(Failure::Singular { equations: Vec::new() });
+        }
+        self.stats.max_relative_residual = self.stats.max_relative_residual.max(residual);
+        Ok((x, residual))
+    }
+}

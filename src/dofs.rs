@@ -1,0 +1,87 @@
+//! DOF numbering: unknowns are `[u_free | λ]`.
+//!
+//! Displacement DOF `2·node + d` (d = 0 for x, 1 for y) gets an equation number unless it is held
+//! (a support, or a DOF prescribed in this or an earlier stage): held DOFs are eliminated, not
+//! imposed by multipliers. Multipliers follow, one per normal row of every interface point and one
+//! per tangential row of every `tie` point, in a fixed order that does not change between stages.
+
+use crate::interface::Interface;
+use crate::mesh::Mesh;
+
+/// Which row a multiplier belongs to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct MultiplierRef {
+    pub interface: usize,
+    pub face: usize,
+    pub point: usize,
+    pub tangential: bool,
+}
+
+#[derive(Debug, Clone)]
+pub struct DofMap {
+    /// Equation number of each displacement DOF, `None` when held.
+    pub equation: Vec<Option<usize>>,
+    pub free_count: usize,
+    pub multipliers: Vec<MultiplierRef>,
+}
+
+/// The list of multipliers of a set of interfaces, in their fixed order.
+pub fn multipliers(interfaces: &[Interface]) -> Vec<MultiplierRef> {
+    let mut out = Vec::new();
+    for (i, interface) in interfaces.iter().enumerate() {
+        for (f, face) in interface.faces.iter().enumerate() {
+            for p in 0..face.points.len() {
+                out.push(MultiplierRef { interface: i, face: f, point: p, tangential: false });
+                if interface.law.is_tie() {
+                    out.push(MultiplierRef { interface: i, face: f, point: p, tangential: true });
+                }
+            }
+        }
+    }
+    out
+}
+
+impl DofMap {
+    pub fn new(node_count: usize, held: &[bool], interfaces: &[Interface]) -> DofMap {
+        let mut equation = vec![None; 2 * node_count];
+        let mut next = 0;
+        for (dof, eq) in equation.iter_mut().enumerate() {
+            if !held[dof] {
+                *eq = Some(next);
+                next += 1;
+            }
+        }
+        DofMap { equation, free_count: next, multipliers: multipliers(interfaces) }
+    }
+
+    /// Number of unknowns of the saddle-point system.
+    pub fn size(&self) -> usize {
+        self.free_count + self.multipliers.len()
+    }
+
+    pub fn multiplier_equation(&self, k: usize) -> usize {
+        self.free_count + k
+    }
+
+    /// A readable name for unknown `eq`: `node 12 uy`, or `the normal multiplier of interface
+    /// "grid-1" (upper face) at node 40`.
+    pub fn describe(&self, eq: usize, mesh: &Mesh, interfaces: &[Interface]) -> String {
+        if eq < self.free_count {
+            if let Some(dof) = self.equation.iter().position(|e| *e == Some(eq)) {
+                let dir = if dof % 2 == 0 { "ux" } else { "uy" };
+                return format!("node {} {dir}", mesh.node_id(dof / 2));
+            }
+        } else if let Some(m) = self.multipliers.get(eq - self.free_count) {
+            let i = &interfaces[m.interface];
+            let f = &i.faces[m.face];
+            let kind = if m.tangential { "tangential" } else { "normal" };
+            return format!(
+                "the {kind} multiplier of interface \"{}\" ({} face) at node {}",
+                i.name,
+                f.label,
+                mesh.node_id(f.points[m.point].slave)
+            );
+        }
+        format!("unknown {eq}")
+    }
+}

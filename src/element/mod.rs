@@ -1,0 +1,4 @@
+//! Element formulations: plane-strain soil solids and reinforcement bars.
+
+pub mod bar;
+pub mod solid;

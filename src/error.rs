@@ -1,0 +1,85 @@
+//! Typed errors that carry what a user needs to act: the file, the field, the entity.
+
+use std::fmt;
+use std::path::PathBuf;
+
+/// One problem found in a model file.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Problem {
+    /// Where in the file, as a path: `elements[3].nodes`, `interfaces[0].reinforcement.path`.
+    pub field: String,
+    /// The entity concerned: `element 42`, `node 17`, `interface "grid-1"`.
+    pub entity: Option<String>,
+    pub message: String,
+}
+
+impl fmt::Display for Problem {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match &self.entity {
+            Some(e) => write!(f, "{} ({}): {}", self.field, e, self.message),
+            None => write!(f, "{}: {}", self.field, self.message),
+        }
+    }
+}
+
+/// Every problem found in one model file.
+#[derive(Debug, Clone)]
+pub struct ModelError {
+    pub file: PathBuf,
+    pub problems: Vec<Problem>,
+}
+
+impl fmt::Display for ModelError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let n = self.problems.len();
+        write!(f, "{}: {} problem{} in the model", self.file.display(), n, if n == 1 { "" } else { "s" })?;
+        for p in &self.problems {
+            write!(f, "\n  {}: {}", self.file.display(), p)?;
+        }
+        Ok(())
+    }
+}
+
+impl std::error::Error for ModelError {}
+
+/// What a linear solver reports.
+#[derive(Debug, Clone, thiserror::Error)]
+#[non_exhaustive]
+pub enum SolveError {
+    /// The matrix is singular; `unknowns` names what is unconstrained.
+    #[error("the system is singular ({backend}): {}", .unknowns.join("; "))]
+    Singular { backend: &'static str, unknowns: Vec<String> },
+    /// The dense reference solver refuses systems above its size limit.
+    #[error(
+        "the dense reference solver handles at most {limit} unknowns and this system has {size}; \
+         use --solver faer (or auto) for a model this size"
+    )]
+    TooLarge { size: usize, limit: usize },
+    /// The requested backend is not compiled into this build.
+    #[error("solver backend '{backend}' is not available in this build: {hint}")]
+    Unavailable { backend: String, hint: String },
+    /// A backend failed for a reason of its own.
+    #[error("{backend} failed: {message}")]
+    Backend { backend: &'static str, message: String },
+}
+
+/// A run that could not finish.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum Error {
+    #[error("{path}: cannot read the model file: {source}")]
+    Read { path: PathBuf, source: std::io::Error },
+    #[error("{path}: {message}")]
+    Parse { path: PathBuf, message: String },
+    #[error(transparent)]
+    Model(#[from] ModelError),
+    #[error("stage \"{stage}\", step {step}: {source}")]
+    Solve { stage: String, step: usize, source: SolveError },
+    #[error(
+        "stage \"{stage}\", step {step}: no equilibrium after {iterations} iterations \
+         (force residual {residual:.3e} of {reference:.3e}); {hint}"
+    )]
+    NotConverged { stage: String, step: usize, iterations: usize, residual: f64, reference: f64, hint: String },
+    #[error("{path}: cannot write output: {source}")]
+    Write { path: PathBuf, source: std::io::Error },
+}

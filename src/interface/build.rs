@@ -1,0 +1,387 @@
+//! Building interfaces from the model file: splitting the soil along a reinforcement path, and
+//! associating the slave points of hand-made pairs with their master faces.
+
+use super::{project, ContactFace, ContactPoint, Interface, NormalState, ShearLaw};
+use crate::mesh::{Bar, Mesh, NodeIndex, SideMap};
+use crate::model::problems::Problems;
+use std::collections::HashMap;
+
+/// What a reinforcement split created, for node sets and supports to follow.
+#[derive(Debug, Default)]
+pub struct SplitRecord {
+    /// Original soil node → its twin on the other side of the slit.
+    pub twins: HashMap<NodeIndex, NodeIndex>,
+    /// Named node sets created: `<name>.head`, `<name>.tail`, `<name>.reinforcement`.
+    pub node_sets: Vec<(String, Vec<NodeIndex>)>,
+}
+
+fn sub(a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
+    [a[0] - b[0], a[1] - b[1]]
+}
+
+fn cross(a: [f64; 2], b: [f64; 2]) -> f64 {
+    a[0] * b[1] - a[1] * b[0]
+}
+
+fn unit(a: [f64; 2]) -> [f64; 2] {
+    let l = (a[0] * a[0] + a[1] * a[1]).sqrt();
+    [a[0] / l, a[1] / l]
+}
+
+/// Counter-clockwise angle from `from` to `to`, in [0, 2π).
+fn ccw_angle(from: [f64; 2], to: [f64; 2]) -> f64 {
+    let a = cross(from, to).atan2(from[0] * to[0] + from[1] * to[1]);
+    if a < 0.0 {
+        a + 2.0 * std::f64::consts::PI
+    } else {
+        a
+    }
+}
+
+/// Slip directions (towards the first node) and tributary lengths of a slave line.
+fn slave_line_geometry(mesh: &Mesh, line: &[NodeIndex]) -> Vec<([f64; 2], f64)> {
+    let m = line.len();
+    (0..m)
+        .map(|k| {
+            let prev = if k > 0 { Some(sub(mesh.position(line[k - 1]), mesh.position(line[k]))) } else { None };
+            let next = if k + 1 < m { Some(sub(mesh.position(line[k]), mesh.position(line[k + 1]))) } else { None };
+            let len = |v: Option<[f64; 2]>| v.map(|v| (v[0] * v[0] + v[1] * v[1]).sqrt()).unwrap_or(0.0);
+            let dir = match (prev, next) {
+                (Some(p), Some(n)) => {
+                    let (p, n) = (unit(p), unit(n));
+                    unit([p[0] + n[0], p[1] + n[1]])
+                }
+                (Some(p), None) => unit(p),
+                (None, Some(n)) => unit(n),
+                (None, None) => [1.0, 0.0],
+            };
+            (dir, 0.5 * (len(prev) + len(next)))
+        })
+        .collect()
+}
+
+fn points_on(mesh: &Mesh, face_master: &[NodeIndex], slave: &[NodeIndex]) -> Vec<ContactPoint> {
+    slave_line_geometry(mesh, slave)
+        .into_iter()
+        .zip(slave)
+        .map(|((tangent, tributary), &s)| {
+            let (segment, xi, _, _) = project(mesh, face_master, mesh.position(s));
+            ContactPoint {
+                slave: s,
+                tangent,
+                tributary,
+                segment,
+                xi,
+                normal_state: NormalState::Active,
+                tangential_state: NormalState::Active,
+            }
+        })
+        .collect()
+}
+
+/// Split the soil along `path` (head on the front face first) and create the reinforcement.
+///
+/// The path's nodes are doubled from the head to the tail; the tail is doubled only when it lies on
+/// the mesh boundary (otherwise the slit ends there, and both faces meet at the tail node). The soil
+/// to the left of head → tail keeps the original nodes; the soil to the right gets the twins.
+#[allow(clippy::too_many_arguments)]
+pub fn split_reinforcement(
+    mesh: &mut Mesh,
+    sides: &SideMap,
+    name: &str,
+    path_ids: &[u64],
+    material: usize,
+    law: ShearLaw,
+    next_bar_id: &mut u64,
+    field: &str,
+    problems: &mut Problems,
+) -> Option<(Interface, SplitRecord)> {
+    let entity = format!("interface \"{name}\"");
+    let before = problems.len();
+    let mut path = Vec::new();
+    for (k, &id) in path_ids.iter().enumerate() {
+        match mesh.node_index(id) {
+            Some(i) => path.push(i),
+            None => problems.push(format!("{field}.path[{k}]"), &entity, format!("node {id} does not exist")),
+        }
+    }
+    if problems.len() > before {
+        return None;
+    }
+    if path.len() < 2 {
+        problems.push(format!("{field}.path"), &entity, "a reinforcement path needs at least 2 nodes");
+        return None;
+    }
+    let mut seen = HashMap::new();
+    for (k, &p) in path.iter().enumerate() {
+        if let Some(first) = seen.insert(p, k) {
+            problems.push(
+                format!("{field}.path[{k}]"),
+                &entity,
+                format!("node {} appears twice in the path (first at position {first})", mesh.node_id(p)),
+            );
+        }
+    }
+    for k in 0..path.len() - 1 {
+        let found = sides.between(path[k], path[k + 1]);
+        let (a, b) = (mesh.node_id(path[k]), mesh.node_id(path[k + 1]));
+        if found.is_empty() {
+            problems.push(
+                format!("{field}.path[{k}..{}]", k + 1),
+                &entity,
+                format!("nodes {a} and {b} are not joined by a soil element side: the reinforcement path must run along element sides through the mesh"),
+            );
+        } else if found.iter().any(|s| s.quadratic) {
+            problems.push(
+                format!("{field}.path[{k}..{}]", k + 1),
+                &entity,
+                format!("the side {a}–{b} belongs to a quadratic element: interfaces on quadratic faces are not yet supported; mesh the soil along the reinforcement with tri3 or quad4"),
+            );
+        } else if found.len() == 1 {
+            problems.push(
+                format!("{field}.path[{k}..{}]", k + 1),
+                &entity,
+                format!("the side {a}–{b} is on the mesh boundary: a reinforcement path must run through the soil, with soil on both sides"),
+            );
+        }
+    }
+    let boundary = sides.boundary_nodes(mesh.nodes.len());
+    if !boundary[path[0]] {
+        problems.push(
+            format!("{field}.path[0]"),
+            &entity,
+            format!("the head node {} is not on the mesh boundary: the path must start at the front face", mesh.node_id(path[0])),
+        );
+    }
+    if problems.len() > before {
+        return None;
+    }
+
+    // Elements touching each node to be split, and whether they lie left of head → tail.
+    let tail = path.len() - 1;
+    let split_count = if boundary[path[tail]] { path.len() } else { tail };
+    let mut touching: HashMap<NodeIndex, Vec<usize>> = HashMap::new();
+    for (s, solid) in mesh.solids.iter().enumerate() {
+        for &v in &solid.nodes {
+            touching.entry(v).or_default().push(s);
+        }
+    }
+    for &p in &path {
+        for &s in touching.get(&p).into_iter().flatten() {
+            if mesh.solids[s].kind.is_quadratic() {
+                problems.push(
+                    format!("{field}.path"),
+                    &entity,
+                    format!("element {} ({}) touches the reinforcement path: interfaces on quadratic faces are not yet supported", mesh.solids[s].id, mesh.solids[s].kind.name()),
+                );
+                return None;
+            }
+        }
+    }
+    let mut record = SplitRecord::default();
+    let mut next_id = mesh.max_node_id() + 1;
+    for k in 0..split_count {
+        let p = path[k];
+        let x = mesh.position(p);
+        let ahead = if k < tail { Some(sub(mesh.position(path[k + 1]), x)) } else { None };
+        let behind = if k > 0 { Some(sub(mesh.position(path[k - 1]), x)) } else { None };
+        let twin = mesh.add_node(next_id, x);
+        next_id += 1;
+        record.twins.insert(p, twin);
+        for &s in touching.get(&p).into_iter().flatten() {
+            let c = sub(mesh.centroid(s), x);
+            let left = match (ahead, behind) {
+                (Some(b), Some(a)) => ccw_angle(b, c) < ccw_angle(b, a),
+                (Some(b), None) => cross(b, c) > 0.0,
+                (None, Some(a)) => cross([-a[0], -a[1]], c) > 0.0,
+                (None, None) => true,
+            };
+            if !left {
+                for v in mesh.solids[s].nodes.iter_mut() {
+                    if *v == p {
+                        *v = twin;
+                    }
+                }
+            }
+        }
+    }
+
+    // Reinforcement nodes and bars.
+    let mut bar_nodes = Vec::with_capacity(path.len());
+    for &p in &path {
+        bar_nodes.push(mesh.add_node(next_id, mesh.position(p)));
+        next_id += 1;
+    }
+    for k in 0..tail {
+        mesh.bars.push(Bar { id: *next_bar_id, nodes: [bar_nodes[k], bar_nodes[k + 1]], material });
+        *next_bar_id += 1;
+    }
+
+    // The face whose soil is on the left of head → tail is "upper" when that side is up.
+    let d = unit(sub(mesh.position(path[1]), mesh.position(path[0])));
+    let left_normal = [-d[1], d[0]];
+    let left_is_upper = left_normal[1] > 1e-12 || (left_normal[1].abs() <= 1e-12 && left_normal[0] < 0.0);
+    let left_master = path.clone();
+    let right_master: Vec<NodeIndex> = path.iter().map(|p| *record.twins.get(p).unwrap_or(p)).collect();
+    let (left_label, right_label) = if left_is_upper { ("upper", "lower") } else { ("lower", "upper") };
+    let mut faces = vec![
+        ContactFace {
+            label: left_label.into(),
+            points: points_on(mesh, &left_master, &bar_nodes),
+            master: left_master,
+            soil_on_left: true,
+            fixed_normal: None,
+        },
+        ContactFace {
+            label: right_label.into(),
+            points: points_on(mesh, &right_master, &bar_nodes),
+            master: right_master,
+            soil_on_left: false,
+            fixed_normal: None,
+        },
+    ];
+    if !left_is_upper {
+        faces.swap(0, 1);
+    }
+    record.node_sets.push((format!("{name}.head"), vec![bar_nodes[0]]));
+    record.node_sets.push((format!("{name}.tail"), vec![bar_nodes[tail]]));
+    record.node_sets.push((format!("{name}.reinforcement"), bar_nodes));
+    Some((Interface { name: name.to_string(), law, faces }, record))
+}
+
+/// Associate a hand-made slave line with its master face.
+#[allow(clippy::too_many_arguments)]
+pub fn pair(
+    mesh: &Mesh,
+    sides: &SideMap,
+    name: &str,
+    slave_ids: &[u64],
+    master_ids: &[u64],
+    master_normal: Option<[f64; 2]>,
+    law: ShearLaw,
+    field: &str,
+    problems: &mut Problems,
+) -> Option<Interface> {
+    let entity = format!("interface \"{name}\"");
+    let before = problems.len();
+    let mut resolve = |ids: &[u64], what: &str| -> Vec<NodeIndex> {
+        let mut out = Vec::new();
+        for (k, &id) in ids.iter().enumerate() {
+            match mesh.node_index(id) {
+                Some(i) => out.push(i),
+                None => problems.push(format!("{field}.{what}[{k}]"), &entity, format!("node {id} does not exist")),
+            }
+        }
+        out
+    };
+    let slave = resolve(slave_ids, "slave");
+    let master = resolve(master_ids, "master");
+    if problems.len() > before {
+        return None;
+    }
+    if slave.len() < 2 {
+        problems.push(format!("{field}.slave"), &entity, "a slave line needs at least 2 nodes");
+    }
+    if master.len() < 2 {
+        problems.push(format!("{field}.master"), &entity, "a master face needs at least 2 nodes");
+    }
+    if let Some(&s) = slave.iter().find(|s| master.contains(s)) {
+        problems.push(
+            format!("{field}.slave"),
+            &entity,
+            format!("node {} is on both the slave line and the master face", mesh.node_id(s)),
+        );
+    }
+    if problems.len() > before {
+        return None;
+    }
+    let mut soil_left = None;
+    let mut any_side = false;
+    for k in 0..master.len() - 1 {
+        let (a, b) = (mesh.node_id(master[k]), mesh.node_id(master[k + 1]));
+        let found = sides.between(master[k], master[k + 1]);
+        if found.iter().any(|s| s.quadratic) {
+            problems.push(
+                format!("{field}.master[{k}..{}]", k + 1),
+                &entity,
+                format!("the side {a}–{b} belongs to a quadratic element: interfaces on quadratic faces are not yet supported"),
+            );
+            continue;
+        }
+        match found.len() {
+            0 => {}
+            1 => {
+                any_side = true;
+                let left = found[0].solid_on_left;
+                if *soil_left.get_or_insert(left) != left {
+                    problems.push(
+                        format!("{field}.master[{k}..{}]", k + 1),
+                        &entity,
+                        format!("the side {a}–{b} has its soil on the other side from the rest of the master face"),
+                    );
+                }
+            }
+            _ => problems.push(
+                format!("{field}.master[{k}..{}]", k + 1),
+                &entity,
+                format!("the side {a}–{b} has soil on both sides: a master face must be a free face of the soil (split the mesh, or use a reinforcement interface)"),
+            ),
+        }
+        if found.is_empty() && master_normal.is_none() {
+            problems.push(
+                format!("{field}.master[{k}..{}]", k + 1),
+                &entity,
+                format!("nodes {a} and {b} are not joined by a soil element side; a master face with no soil (a rigid base) needs master_normal"),
+            );
+        }
+    }
+    let fixed_normal = match master_normal {
+        Some(_) if any_side => {
+            problems.push(format!("{field}.master_normal"), &entity, "master_normal is only for a master face with no soil element; this face's normal comes from its soil");
+            None
+        }
+        Some(n) => {
+            let l = (n[0] * n[0] + n[1] * n[1]).sqrt();
+            if !(l.is_finite() && l > 0.0) {
+                problems.push(format!("{field}.master_normal"), &entity, "master_normal must be a non-zero, finite vector");
+                None
+            } else {
+                Some([n[0] / l, n[1] / l])
+            }
+        }
+        None => None,
+    };
+    if problems.len() > before {
+        return None;
+    }
+    let face = ContactFace {
+        label: "face".into(),
+        points: points_on(mesh, &master, &slave),
+        master,
+        soil_on_left: soil_left.unwrap_or(true),
+        fixed_normal,
+    };
+    // Every slave node must sit on its master face.
+    let tol = 1e-6 * mesh.characteristic_length();
+    for (k, p) in face.points.iter().enumerate() {
+        let x = mesh.position(p.slave);
+        let (_, _, signed, outside) = project(mesh, &face.master, x);
+        if outside {
+            problems.push(
+                format!("{field}.slave[{k}]"),
+                &entity,
+                format!("slave node {} does not face the master face (it projects beyond its ends)", mesh.node_id(p.slave)),
+            );
+        } else if signed.abs() > tol {
+            problems.push(
+                format!("{field}.slave[{k}]"),
+                &entity,
+                format!("slave node {} is {:.3e} off its master face: slave and master must start in contact", mesh.node_id(p.slave), signed.abs()),
+            );
+        }
+    }
+    if problems.len() > before {
+        return None;
+    }
+    Some(Interface { name: name.to_string(), law, faces: vec![face] })
+}

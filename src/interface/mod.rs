@@ -1,0 +1,150 @@
+//! Interfaces: a slave line pressed against a master face, with a shear law (DESIGN §1).
+//!
+//! Each slave point r faces a master point at parameter ξ on a master segment (a, b). With n the
+//! unit normal pointing into that face's soil and t the slip direction, the point contributes
+//! - a normal constraint row `+n` on r and `−N_i(ξ)·n` on a, b, holding the gap
+//!   g = n·(x_r − Σ N_i x_i) at zero, with multiplier λ (λ > 0 is compression);
+//! - a tangential spring of stiffness Ks·ℓ on the relative displacement along t (slip
+//!   s = t·(u_r − Σ N_i u_i)), or, for a `tie` law, a second constraint row along t.
+//!
+//! A point's association (segment, ξ) and state are kept so that the slip mechanics can release a
+//! row (it stays in the pattern with a unit diagonal), and re-associate the point as it slides.
+
+pub mod build;
+
+use crate::mesh::{Mesh, NodeIndex};
+
+/// Tangential law of every face of an interface, with its parameters checked.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ShearLaw {
+    /// Multipliers in both directions: no slip.
+    Tie,
+    /// τ = Ks·s [stress], Ks per face [stress/length].
+    Linear { shear_stiffness: f64 },
+    /// A law with a strength limit (Coulomb, peak–residual, softening, hyperbolic). The model format
+    /// accepts it; its plastic part belongs to the slip mechanics and is refused at run time.
+    Strength { kind: &'static str, shear_stiffness: f64 },
+}
+
+impl ShearLaw {
+    pub fn is_tie(&self) -> bool {
+        matches!(self, ShearLaw::Tie)
+    }
+
+    pub fn shear_stiffness(&self) -> Option<f64> {
+        match self {
+            ShearLaw::Tie => None,
+            ShearLaw::Linear { shear_stiffness } | ShearLaw::Strength { shear_stiffness, .. } => {
+                Some(*shear_stiffness)
+            }
+        }
+    }
+}
+
+/// State of a point's normal constraint row.
+#[derive(Debug, Clone, PartialEq)]
+pub enum NormalState {
+    /// The row holds the gap at zero.
+    Active,
+    /// The faces have separated: the row stays in the pattern with a unit diagonal and λ = 0.
+    Released,
+    /// The row repeats another one on the free DOFs (for example both faces of a bar on a fixed,
+    /// rigid bed, or both sides held by supports); the force is carried by `carried_by`.
+    Redundant { carried_by: String },
+}
+
+/// One slave point of one face.
+#[derive(Debug, Clone)]
+pub struct ContactPoint {
+    pub slave: NodeIndex,
+    /// Slip direction: unit tangent of the slave line, pointing towards its first node.
+    pub tangent: [f64; 2],
+    /// Tributary length ℓ of the point along the slave line [length].
+    pub tributary: f64,
+    /// Master segment index (into the face's master path) and parameter ξ ∈ [0, 1] on it.
+    pub segment: usize,
+    pub xi: f64,
+    pub normal_state: NormalState,
+    pub tangential_state: NormalState,
+}
+
+/// One face of an interface: a master path and the slave points pressed against it.
+#[derive(Debug, Clone)]
+pub struct ContactFace {
+    /// `upper`, `lower` (a reinforcement's two faces) or `face` (a hand-made pair).
+    pub label: String,
+    pub master: Vec<NodeIndex>,
+    /// The master face's soil lies to the left of each master segment a → b.
+    pub soil_on_left: bool,
+    /// For a master face with no soil element (a rigid base): the normal into the master side.
+    pub fixed_normal: Option<[f64; 2]>,
+    pub points: Vec<ContactPoint>,
+}
+
+#[derive(Debug, Clone)]
+pub struct Interface {
+    pub name: String,
+    pub law: ShearLaw,
+    pub faces: Vec<ContactFace>,
+}
+
+/// A row over displacement DOFs: `(node, [coefficient on ux, coefficient on uy])`.
+pub type Row = Vec<(NodeIndex, [f64; 2])>;
+
+impl ContactFace {
+    /// Unit normal into the master face's soil on segment `segment`, in the reference geometry.
+    pub fn normal(&self, mesh: &Mesh, segment: usize) -> [f64; 2] {
+        if let Some(n) = self.fixed_normal {
+            return n;
+        }
+        let (a, b) = (mesh.position(self.master[segment]), mesh.position(self.master[segment + 1]));
+        let d = [b[0] - a[0], b[1] - a[1]];
+        let len = (d[0] * d[0] + d[1] * d[1]).sqrt();
+        let left = [-d[1] / len, d[0] / len];
+        if self.soil_on_left {
+            left
+        } else {
+            [-left[0], -left[1]]
+        }
+    }
+
+    /// `+v` on the slave node and `−N_i(ξ)·v` on the master segment's nodes.
+    pub fn relative_row(&self, point: &ContactPoint, v: [f64; 2]) -> Row {
+        let (a, b) = (self.master[point.segment], self.master[point.segment + 1]);
+        let (na, nb) = (1.0 - point.xi, point.xi);
+        vec![(point.slave, v), (a, [-na * v[0], -na * v[1]]), (b, [-nb * v[0], -nb * v[1]])]
+    }
+
+    /// The normal constraint row of a point.
+    pub fn normal_row(&self, mesh: &Mesh, point: &ContactPoint) -> Row {
+        self.relative_row(point, self.normal(mesh, point.segment))
+    }
+
+    /// The tangential row (slip s = row · u) of a point.
+    pub fn tangential_row(&self, point: &ContactPoint) -> Row {
+        self.relative_row(point, point.tangent)
+    }
+}
+
+/// Closest-point projection of `x` onto the polyline `path`: `(segment, ξ, signed distance along
+/// the left normal, outside)`, where `outside` says that the foot lies beyond either end.
+pub fn project(mesh: &Mesh, path: &[NodeIndex], x: [f64; 2]) -> (usize, f64, f64, bool) {
+    let mut best = (0usize, 0.0f64, f64::INFINITY, f64::INFINITY, true);
+    for s in 0..path.len().saturating_sub(1) {
+        let (a, b) = (mesh.position(path[s]), mesh.position(path[s + 1]));
+        let d = [b[0] - a[0], b[1] - a[1]];
+        let len2 = d[0] * d[0] + d[1] * d[1];
+        let raw = ((x[0] - a[0]) * d[0] + (x[1] - a[1]) * d[1]) / len2;
+        let xi = raw.clamp(0.0, 1.0);
+        let foot = [a[0] + xi * d[0], a[1] + xi * d[1]];
+        let dist = ((x[0] - foot[0]).powi(2) + (x[1] - foot[1]).powi(2)).sqrt();
+        let tol = 1e-9;
+        let outside = (s == 0 && raw < -tol) || (s + 2 == path.len() && raw > 1.0 + tol);
+        let len = len2.sqrt();
+        let signed = ((x[0] - a[0]) * -d[1] + (x[1] - a[1]) * d[0]) / len;
+        if dist < best.3 - 1e-14 * len {
+            best = (s, xi, signed, dist, outside);
+        }
+    }
+    (best.0, best.1, best.2, best.4)
+}

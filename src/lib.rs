@@ -1,0 +1,21 @@
+//! geoslip: finite-element analysis of soil–geosynthetic interfaces that slip a lot.
+//!
+//! Normal compatibility between soil and reinforcement is imposed by Lagrange multipliers (Yi 1996,
+//! Eq. 5), with no arbitrary normal stiffness; tangential resistance comes from a shear stiffness Ks
+//! per face. The saddle-point system [K Cᵀ; C 0] is assembled in triplet form and solved by a
+//! sparse direct solver.
+//!
+//! The driver reads top to bottom: [`model::Model::load`] → [`analysis::run`] → [`output`].
+
+pub mod analysis;
+pub mod assembly;
+pub mod dofs;
+pub mod element;
+pub mod error;
+pub mod interface;
+pub mod linsol;
+pub mod mesh;
+pub mod model;
+pub mod output;
+
+pub use error::{Error, ModelError, Problem, SolveError};

@@ -1,0 +1,340 @@
+//! The model file as the user writes it (TOML or JSON).
+//!
+//! These types are the single source of truth for the format: `geoslip schema` prints a JSON Schema
+//! generated from them, and `docs/model-format.md` documents them field by field. Nothing here is
+//! validated beyond what serde checks; `model::validate` turns a [`ModelFile`] into a checked
+//! [`crate::model::Model`] and lists every problem it finds.
+
+use schemars::JsonSchema;
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+
+/// A complete geoslip model.
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ModelFile {
+    /// Free-text title, copied into the run summary.
+    #[serde(default)]
+    pub title: String,
+    /// The units every number in this file is written in.
+    pub units: Units,
+    /// Named materials.
+    pub materials: Materials,
+    /// Nodes as `[id, x, y]`.
+    pub nodes: Vec<NodeRow>,
+    /// Soil elements (tri3, tri6, quad4, quad8), counter-clockwise node order, Gmsh numbering.
+    #[serde(default)]
+    pub elements: Vec<SolidElementRow>,
+    /// Two-node reinforcement bars that the user makes by hand (a `reinforcement` interface makes its
+    /// own).
+    #[serde(default)]
+    pub bars: Vec<BarRow>,
+    /// Named node sets.
+    #[serde(default)]
+    pub node_sets: BTreeMap<String, Vec<u64>>,
+    /// Named edge sets: each edge is the node list of one element side, `[a, b]` or `[a, b, mid]`.
+    #[serde(default)]
+    pub edge_sets: BTreeMap<String, Vec<Vec<u64>>>,
+    /// Permanent zero-displacement supports.
+    #[serde(default)]
+    pub supports: Vec<Support>,
+    /// Soil–reinforcement, soil–soil and soil–base interfaces.
+    #[serde(default)]
+    pub interfaces: Vec<InterfaceSpec>,
+    /// The loading history: stages of increments, applied in order.
+    pub stages: Vec<Stage>,
+}
+
+/// Units stated in the file. geoslip does not convert: every number must be written in these units,
+/// and output column headers carry them. Stress is force/length².
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Units {
+    pub length: LengthUnit,
+    pub force: ForceUnit,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+pub enum LengthUnit {
+    #[serde(rename = "m")]
+    Metre,
+    #[serde(rename = "mm")]
+    Millimetre,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+pub enum ForceUnit {
+    #[serde(rename = "N")]
+    Newton,
+    #[serde(rename = "kN")]
+    Kilonewton,
+    #[serde(rename = "MN")]
+    Meganewton,
+}
+
+#[derive(Debug, Clone, Default, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Materials {
+    /// Soil materials by name.
+    #[serde(default)]
+    pub soil: BTreeMap<String, SoilMaterial>,
+    /// Reinforcement (geogrid, geotextile, strip) materials by name.
+    #[serde(default)]
+    pub reinforcement: BTreeMap<String, ReinforcementMaterial>,
+}
+
+/// Plane-strain linear-elastic soil.
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct SoilMaterial {
+    /// Young's modulus E [stress].
+    pub youngs_modulus: f64,
+    /// Poisson's ratio ν, 0 ≤ ν < 0.5.
+    pub poissons_ratio: f64,
+    /// Unit weight γ [force/length³], used by `gravity` loads.
+    #[serde(default)]
+    pub unit_weight: f64,
+}
+
+/// A reinforcement, per metre width out of plane.
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ReinforcementMaterial {
+    /// Axial stiffness EA per metre width [force/length].
+    pub axial_stiffness: f64,
+    /// Carries no compression (geogrids). Accepted now; applied by the slip mechanics.
+    #[serde(default)]
+    pub tension_only: bool,
+    /// Rupture strength T_ult per metre width [force/length]. Accepted now; applied by the slip
+    /// mechanics.
+    #[serde(default)]
+    pub rupture_strength: Option<f64>,
+}
+
+/// `[id, x, y]`.
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
+pub struct NodeRow(pub u64, pub f64, pub f64);
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum SolidKind {
+    Tri3,
+    Tri6,
+    Quad4,
+    Quad8,
+}
+
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct SolidElementRow {
+    pub id: u64,
+    #[serde(rename = "type")]
+    pub kind: SolidKind,
+    /// Corner nodes counter-clockwise, then mid-side nodes (Gmsh order).
+    pub nodes: Vec<u64>,
+    /// Name of a soil material.
+    pub material: String,
+}
+
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct BarRow {
+    pub id: u64,
+    pub nodes: [u64; 2],
+    /// Name of a reinforcement material.
+    pub material: String,
+}
+
+/// Where a support, load or prescribed displacement acts: exactly one of `node`, `nodes` or `set`.
+#[derive(Debug, Clone, Copy)]
+pub struct NodeTarget<'a> {
+    pub node: Option<u64>,
+    pub nodes: Option<&'a [u64]>,
+    pub set: Option<&'a str>,
+}
+
+impl Support {
+    pub fn target(&self) -> NodeTarget<'_> {
+        NodeTarget { node: self.node, nodes: self.nodes.as_deref(), set: self.set.as_deref() }
+    }
+}
+
+impl PrescribedDisplacement {
+    pub fn target(&self) -> NodeTarget<'_> {
+        NodeTarget { node: self.node, nodes: self.nodes.as_deref(), set: self.set.as_deref() }
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize, JsonSchema)]
+pub enum Direction {
+    #[serde(rename = "x")]
+    X,
+    #[serde(rename = "y")]
+    Y,
+}
+
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Support {
+    #[serde(default)]
+    pub node: Option<u64>,
+    #[serde(default)]
+    pub nodes: Option<Vec<u64>>,
+    #[serde(default)]
+    pub set: Option<String>,
+    /// Directions held at zero displacement.
+    pub fix: Vec<Direction>,
+}
+
+/// An interface: a slave line pressed against a master face, with a shear law.
+///
+/// Give either `reinforcement` (geoslip splits the soil along a node path and creates the bars, both
+/// faces and one contact pair per face) or `slave` and `master` (the mesh already carries the double
+/// nodes).
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct InterfaceSpec {
+    pub name: String,
+    #[serde(default)]
+    pub reinforcement: Option<ReinforcementPath>,
+    /// Slave line: ordered node ids. Slip is positive when the slave moves towards its first node.
+    #[serde(default)]
+    pub slave: Option<Vec<u64>>,
+    /// Master face: ordered node ids along element sides.
+    #[serde(default)]
+    pub master: Option<Vec<u64>>,
+    /// Unit-free direction pointing into the master side, required only when the master face is not on
+    /// any soil element (a rigid base).
+    #[serde(default)]
+    pub master_normal: Option<[f64; 2]>,
+    /// The shear law of every face of this interface.
+    pub law: ShearLawSpec,
+}
+
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ReinforcementPath {
+    /// Soil node ids along the reinforcement, from the head (on the front face) to the tail.
+    pub path: Vec<u64>,
+    /// Name of a reinforcement material.
+    pub material: String,
+}
+
+/// Tangential law per face and per slave point.
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
+#[serde(tag = "type", rename_all = "kebab-case", deny_unknown_fields)]
+pub enum ShearLawSpec {
+    /// Both directions tied by Lagrange multipliers (no slip at all).
+    Tie,
+    /// τ = Ks·s with no strength limit (the paper's illustrative example).
+    Linear {
+        /// Ks per face [stress/length].
+        shear_stiffness: f64,
+    },
+    /// Elastic–perfectly plastic, τp = c + σn·tan φ.
+    Coulomb {
+        shear_stiffness: f64,
+        cohesion: f64,
+        /// Degrees.
+        friction_angle: f64,
+    },
+    /// Peak then residual (the paper's Fig. 2).
+    PeakResidual {
+        shear_stiffness: f64,
+        cohesion: f64,
+        friction_angle: f64,
+        residual_cohesion: f64,
+        residual_friction_angle: f64,
+    },
+    /// Peak, then linear softening to the residual over `softening_slip`.
+    Softening {
+        shear_stiffness: f64,
+        cohesion: f64,
+        friction_angle: f64,
+        residual_cohesion: f64,
+        residual_friction_angle: f64,
+        /// Slip over which the strength drops from peak to residual [length].
+        softening_slip: f64,
+    },
+    /// Hyperbolic before the peak: initial slope Ks, asymptote τp.
+    Hyperbolic {
+        shear_stiffness: f64,
+        cohesion: f64,
+        friction_angle: f64,
+    },
+}
+
+/// One stage of the loading history. Loads and prescribed displacements listed here are added to
+/// those of earlier stages and ramped in by `load_factors` (cumulative fractions of this stage's
+/// additions, ending at 1).
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Stage {
+    pub name: String,
+    /// Cumulative fractions of this stage's additions, increasing, ending at 1.0. Default `[1.0]`.
+    #[serde(default = "default_load_factors")]
+    pub load_factors: Vec<f64>,
+    #[serde(default)]
+    pub loads: Vec<LoadSpec>,
+    /// Displacements added in this stage; the DOFs stay held at the reached value afterwards.
+    #[serde(default)]
+    pub prescribed: Vec<PrescribedDisplacement>,
+}
+
+fn default_load_factors() -> Vec<f64> {
+    vec![1.0]
+}
+
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
+#[serde(tag = "type", rename_all = "kebab-case", deny_unknown_fields)]
+pub enum LoadSpec {
+    /// Uniform traction on the edges of an edge set [stress]. `pressure` acts against the outward
+    /// normal (positive pushes into the soil); `shear` acts along the edge, positive from its first node
+    /// to its second.
+    EdgeTraction {
+        edge_set: String,
+        #[serde(default)]
+        pressure: f64,
+        #[serde(default)]
+        shear: f64,
+    },
+    /// Point load per metre width out of plane [force per metre width].
+    Point {
+        #[serde(default)]
+        node: Option<u64>,
+        #[serde(default)]
+        nodes: Option<Vec<u64>>,
+        #[serde(default)]
+        set: Option<String>,
+        #[serde(default)]
+        fx: f64,
+        #[serde(default)]
+        fy: f64,
+    },
+    /// Self-weight of the soil (−y), from each material's unit weight, times `factor`.
+    Gravity {
+        #[serde(default = "one")]
+        factor: f64,
+    },
+}
+
+fn one() -> f64 {
+    1.0
+}
+
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct PrescribedDisplacement {
+    #[serde(default)]
+    pub node: Option<u64>,
+    #[serde(default)]
+    pub nodes: Option<Vec<u64>>,
+    #[serde(default)]
+    pub set: Option<String>,
+    /// Displacement added in x during this stage [length].
+    #[serde(default)]
+    pub ux: Option<f64>,
+    /// Displacement added in y during this stage [length].
+    #[serde(default)]
+    pub uy: Option<f64>,
+}

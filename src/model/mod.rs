@@ -1,0 +1,155 @@
+//! The model: read a file, check every part of it, and build the mesh, interfaces and loading
+//! history that the analysis runs on.
+
+pub mod file;
+pub mod problems;
+mod validate;
+
+use crate::error::{Error, ModelError};
+use crate::interface::Interface;
+use crate::mesh::{Mesh, NodeIndex};
+use file::{Direction, ModelFile, ReinforcementMaterial, SoilMaterial, Units};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// A checked model, ready to analyse.
+#[derive(Debug, Clone)]
+pub struct Model {
+    pub source: PathBuf,
+    pub title: String,
+    pub units: Units,
+    pub mesh: Mesh,
+    pub soils: Vec<(String, SoilMaterial)>,
+    pub reinforcements: Vec<(String, ReinforcementMaterial)>,
+    pub node_sets: BTreeMap<String, Vec<NodeIndex>>,
+    /// Permanent zero-displacement supports.
+    pub supports: Vec<(NodeIndex, Direction)>,
+    pub interfaces: Vec<Interface>,
+    pub stages: Vec<StagePlan>,
+    /// Things worth knowing that do not stop a run.
+    pub notes: Vec<String>,
+}
+
+/// A soil element side that carries a traction: element index and local side index.
+#[derive(Debug, Clone, Copy)]
+pub struct LoadedSide {
+    pub solid: usize,
+    pub side: usize,
+}
+
+#[derive(Debug, Clone)]
+pub enum Load {
+    EdgeTraction { sides: Vec<LoadedSide>, pressure: f64, shear: f64 },
+    Point { node: NodeIndex, force: [f64; 2] },
+    Gravity { factor: f64 },
+}
+
+#[derive(Debug, Clone)]
+pub struct StagePlan {
+    pub name: String,
+    /// Cumulative fractions of this stage's additions, increasing, ending at 1.
+    pub load_factors: Vec<f64>,
+    pub loads: Vec<Load>,
+    /// (node, direction, displacement added over this stage).
+    pub prescribed: Vec<(NodeIndex, Direction, f64)>,
+}
+
+impl Model {
+    /// Read and check a model file (TOML, or JSON when the name ends in `.json`).
+    ///
+    /// # Errors
+    /// [`Error::Read`] or [`Error::Parse`] when the file cannot be read or parsed, and
+    /// [`Error::Model`] listing every problem found in it.
+    pub fn load(path: &Path) -> Result<Model, Error> {
+        let text = std::fs::read_to_string(path).map_err(|source| Error::Read { path: path.to_path_buf(), source })?;
+        let file = parse(path, &text)?;
+        Model::from_file(path, &file).map_err(Error::Model)
+    }
+
+    /// Check a parsed model file. `source` names it in messages.
+    ///
+    /// # Errors
+    /// A [`ModelError`] that lists every problem found.
+    pub fn from_file(source: &Path, file: &ModelFile) -> Result<Model, ModelError> {
+        validate::validate(source, file)
+    }
+
+    pub fn node_set(&self, name: &str) -> Option<&[NodeIndex]> {
+        self.node_sets.get(name).map(|v| v.as_slice())
+    }
+
+    pub fn soil(&self, solid: usize) -> &SoilMaterial {
+        &self.soils[self.mesh.solids[solid].material].1
+    }
+
+    /// Unit labels for output headers.
+    pub fn unit_labels(&self) -> UnitLabels {
+        UnitLabels::new(&self.units)
+    }
+}
+
+/// Parse a model file's text, by extension.
+///
+/// # Errors
+/// [`Error::Parse`] with the parser's message (it carries the line and column).
+pub fn parse(path: &Path, text: &str) -> Result<ModelFile, Error> {
+    let is_json = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("json"));
+    if is_json {
+        serde_json::from_str(text).map_err(|e| Error::Parse { path: path.to_path_buf(), message: e.to_string() })
+    } else {
+        toml::from_str(text).map_err(|e| Error::Parse { path: path.to_path_buf(), message: e.to_string() })
+    }
+}
+
+/// Unit strings for column headers.
+#[derive(Debug, Clone)]
+pub struct UnitLabels {
+    pub length: &'static str,
+    pub force: &'static str,
+    /// force per metre width (line load, bar force, multiplier)
+    pub force_per_width: String,
+    pub stress: String,
+}
+
+impl UnitLabels {
+    pub fn new(units: &Units) -> Self {
+        use file::{ForceUnit::*, LengthUnit::*};
+        let length = match units.length {
+            Metre => "m",
+            Millimetre => "mm",
+        };
+        let force = match units.force {
+            Newton => "N",
+            Kilonewton => "kN",
+            Meganewton => "MN",
+        };
+        let stress = match (units.force, units.length) {
+            (Newton, Metre) => "Pa".to_string(),
+            (Kilonewton, Metre) => "kPa".to_string(),
+            (Meganewton, Metre) | (Newton, Millimetre) => "MPa".to_string(),
+            (f, l) => format!("{}/{}^2", UnitLabels::force_name(f), UnitLabels::length_name(l)),
+        };
+        UnitLabels { length, force, force_per_width: format!("{force}/{length}"), stress }
+    }
+
+    fn force_name(f: file::ForceUnit) -> &'static str {
+        match f {
+            file::ForceUnit::Newton => "N",
+            file::ForceUnit::Kilonewton => "kN",
+            file::ForceUnit::Meganewton => "MN",
+        }
+    }
+
+    fn length_name(l: file::LengthUnit) -> &'static str {
+        match l {
+            file::LengthUnit::Metre => "m",
+            file::LengthUnit::Millimetre => "mm",
+        }
+    }
+}
+
+/// The JSON Schema of the model file, generated from the same types that read it.
+pub fn schema() -> String {
+    let schema = schemars::schema_for!(ModelFile);
+    serde_json::to_string_pretty(&schema).unwrap_or_default()
+}

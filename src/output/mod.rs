@@ -1,0 +1,291 @@
+//! Result files: CSV per step, a history of the prescribed targets, and a JSON run summary.
+//!
+//! Every file is written to a temporary file in the same folder and renamed into place, so a crash
+//! never leaves a truncated file under a final name. Each step's files are written as soon as the
+//! step converges, and the summary is rewritten after every step: completed steps are never lost.
+
+use crate::analysis::results::StepResults;
+use crate::analysis::system::SolverStats;
+use crate::analysis::{StepRecord, StepSink};
+use crate::error::Error;
+use crate::model::file::Direction;
+use crate::model::{Model, UnitLabels};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+/// Write `bytes` to `path` atomically (temporary file + rename).
+///
+/// # Errors
+/// [`Error::Write`] naming the path.
+pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), Error> {
+    let dir = path.parent().unwrap_or(Path::new("."));
+    let fail = |source: std::io::Error| Error::Write { path: path.to_path_buf(), source };
+    std::fs::create_dir_all(dir).map_err(fail)?;
+    let mut tmp = tempfile::Builder::new().prefix(".partial-").tempfile_in(dir).map_err(fail)?;
+    tmp.write_all(bytes).map_err(fail)?;
+    tmp.as_file().sync_all().map_err(fail)?;
+    tmp.persist(path).map_err(|e| fail(e.error))?;
+    Ok(())
+}
+
+fn csv_bytes(header: &[String], rows: impl Iterator<Item = Vec<String>>) -> Vec<u8> {
+    let mut w = csv::Writer::from_writer(Vec::new());
+    // Writing to memory cannot fail.
+    w.write_record(header).expect("in-memory CSV");
+    for r in rows {
+        w.write_record(&r).expect("in-memory CSV");
+    }
+    w.into_inner().expect("in-memory CSV")
+}
+
+fn num(v: f64) -> String {
+    format!("{v:.10e}")
+}
+
+/// A prescribed target followed through the run: its mean displacement and total reaction.
+struct Target {
+    label: String,
+    nodes: Vec<usize>,
+    direction: Direction,
+}
+
+/// Writes each step under `<out>/stage-<k>-<name>/step-<nnn>/` and keeps `summary.json` and
+/// `history.csv` current.
+pub struct ResultWriter {
+    out: PathBuf,
+    units: UnitLabels,
+    targets: Vec<Target>,
+    history: Vec<Vec<String>>,
+    pub summary: RunSummary,
+}
+
+/// The JSON run summary.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct RunSummary {
+    pub geoslip_version: &'static str,
+    pub model: String,
+    pub title: String,
+    /// `running`, `completed` or `failed`.
+    pub status: String,
+    pub error: Option<String>,
+    pub solver: String,
+    pub units: serde_json::Value,
+    pub unknowns: Unknowns,
+    pub notes: Vec<String>,
+    pub steps: Vec<StepRecord>,
+    pub solver_stats: SolverStats,
+    pub total_seconds: f64,
+}
+
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct Unknowns {
+    pub nodes: usize,
+    pub soil_elements: usize,
+    pub bars: usize,
+    pub interface_points: usize,
+}
+
+impl ResultWriter {
+    pub fn new(model: &Model, out: &Path, solver: &str) -> Result<Self, Error> {
+        std::fs::create_dir_all(out).map_err(|source| Error::Write { path: out.to_path_buf(), source })?;
+        let mut targets = Vec::new();
+        for stage in &model.stages {
+            for &(n, d, _) in &stage.prescribed {
+                let set = model.node_sets.iter().find(|(_, nodes)| nodes.contains(&n)).map(|(name, _)| name.clone());
+                let label = set.unwrap_or_else(|| format!("node {}", model.mesh.node_id(n)));
+                match targets.iter_mut().find(|t: &&mut Target| t.label == label && t.direction == d) {
+                    Some(t) => {
+                        if !t.nodes.contains(&n) {
+                            t.nodes.push(n)
+                        }
+                    }
+                    None => targets.push(Target { label, nodes: vec![n], direction: d }),
+                }
+            }
+        }
+        let units = model.unit_labels();
+        Ok(ResultWriter {
+            out: out.to_path_buf(),
+            targets,
+            history: Vec::new(),
+            summary: RunSummary {
+                geoslip_version: env!("CARGO_PKG_VERSION"),
+                model: model.source.display().to_string(),
+                title: model.title.clone(),
+                status: "running".into(),
+                error: None,
+                solver: solver.into(),
+                units: serde_json::json!({
+                    "length": units.length, "force": units.force,
+                    "force_per_width": units.force_per_width, "stress": units.stress }),
+                unknowns: Unknowns {
+                    nodes: model.mesh.nodes.len(),
+                    soil_elements: model.mesh.solids.len(),
+                    bars: model.mesh.bars.len(),
+                    interface_points: model.interfaces.iter().flat_map(|i| &i.faces).map(|f| f.points.len()).sum(),
+                },
+                notes: model.notes.clone(),
+                steps: Vec::new(),
+                solver_stats: SolverStats::default(),
+                total_seconds: 0.0,
+            },
+            units,
+        })
+    }
+
+    pub fn step_dir(&self, record: &StepRecord) -> PathBuf {
+        let name: String = record
+            .stage
+            .chars()
+            .map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '_' { c } else { '-' })
+            .collect();
+        self.out.join(format!("stage-{}-{}", record.stage_index + 1, name)).join(format!("step-{:03}", record.step))
+    }
+
+    pub fn write_summary(&self) -> Result<(), Error> {
+        let json = serde_json::to_vec_pretty(&self.summary).unwrap_or_default();
+        write_atomically(&self.out.join("summary.json"), &json)
+    }
+
+    /// Mark the run finished (or failed) and write the summary a last time.
+    pub fn finish(&mut self, error: Option<&Error>, stats: Option<SolverStats>, seconds: f64) -> Result<(), Error> {
+        self.summary.status = if error.is_some() { "failed".into() } else { "completed".into() };
+        self.summary.error = error.map(|e| e.to_string());
+        if let Some(s) = stats {
+            self.summary.solver_stats = s;
+        }
+        self.summary.total_seconds = seconds;
+        self.write_summary()
+    }
+
+    fn write_step_files(&self, dir: &Path, r: &StepResults) -> Result<(), Error> {
+        let u = &self.units;
+        let (l, f, s) = (u.length, u.force_per_width.as_str(), u.stress.as_str());
+        let h = |names: &[String]| names.to_vec();
+        write_atomically(
+            &dir.join("displacements.csv"),
+            &csv_bytes(
+                &h(&["node".into(), format!("x [{l}]"), format!("y [{l}]"), format!("ux [{l}]"), format!("uy [{l}]")]),
+                r.displacements.iter().map(|(id, x, d)| vec![id.to_string(), num(x[0]), num(x[1]), num(d[0]), num(d[1])]),
+            ),
+        )?;
+        let opt = |v: Option<f64>| v.map(num).unwrap_or_default();
+        write_atomically(
+            &dir.join("reactions.csv"),
+            &csv_bytes(
+                &h(&["node".into(), format!("rx [{f}]"), format!("ry [{f}]")]),
+                r.reactions.iter().map(|re| vec![re.node.to_string(), opt(re.rx), opt(re.ry)]),
+            ),
+        )?;
+        write_atomically(
+            &dir.join("bar_forces.csv"),
+            &csv_bytes(
+                &h(&["bar".into(), "node_a".into(), "node_b".into(), format!("x_mid [{l}]"), format!("y_mid [{l}]"), format!("T [{f}]")]),
+                r.bar_forces.iter().map(|b| {
+                    vec![b.bar.to_string(), b.nodes[0].to_string(), b.nodes[1].to_string(), num(b.midpoint[0]), num(b.midpoint[1]), num(b.axial_force)]
+                }),
+            ),
+        )?;
+        write_atomically(
+            &dir.join("interface.csv"),
+            &csv_bytes(
+                &h(&[
+                    "interface".into(),
+                    "face".into(),
+                    "slave_node".into(),
+                    format!("x [{l}]"),
+                    format!("y [{l}]"),
+                    "master_a".into(),
+                    "master_b".into(),
+                    "xi [-]".into(),
+                    "state".into(),
+                    format!("tributary [{l}]"),
+                    format!("lambda [{f}]"),
+                    format!("sigma_n [{s}]"),
+                    format!("tau [{s}]"),
+                    format!("slip [{l}]"),
+                ]),
+                r.interface_points.iter().map(|p| {
+                    vec![
+                        p.interface.clone(),
+                        p.face.clone(),
+                        p.slave_node.to_string(),
+                        num(p.x[0]),
+                        num(p.x[1]),
+                        p.master_nodes[0].to_string(),
+                        p.master_nodes[1].to_string(),
+                        num(p.xi),
+                        p.state.to_string(),
+                        num(p.tributary),
+                        num(p.lambda),
+                        num(p.sigma_n),
+                        num(p.tau),
+                        num(p.slip),
+                    ]
+                }),
+            ),
+        )?;
+        write_atomically(
+            &dir.join("stresses.csv"),
+            &csv_bytes(
+                &h(&[
+                    "element".into(),
+                    "gauss_point".into(),
+                    format!("x [{l}]"),
+                    format!("y [{l}]"),
+                    format!("sxx [{s}]"),
+                    format!("syy [{s}]"),
+                    format!("sxy [{s}]"),
+                    format!("szz [{s}]"),
+                ]),
+                r.stresses.iter().map(|e| {
+                    vec![
+                        e.element.to_string(),
+                        e.point.to_string(),
+                        num(e.x[0]),
+                        num(e.x[1]),
+                        num(e.stress[0]),
+                        num(e.stress[1]),
+                        num(e.stress[2]),
+                        num(e.stress[3]),
+                    ]
+                }),
+            ),
+        )
+    }
+}
+
+impl StepSink for ResultWriter {
+    fn step_done(&mut self, results: &StepResults, record: &StepRecord, stats: &SolverStats) -> Result<(), Error> {
+        let dir = self.step_dir(record);
+        self.write_step_files(&dir, results)?;
+        for t in &self.targets {
+            let d = |n: usize| 2 * n + if t.direction == Direction::X { 0 } else { 1 };
+            let mean_u = t.nodes.iter().map(|&n| results.displacement_vector[d(n)]).sum::<f64>() / t.nodes.len() as f64;
+            let reaction: f64 = t.nodes.iter().map(|&n| results.reaction_vector[d(n)]).sum();
+            self.history.push(vec![
+                record.stage.clone(),
+                record.step.to_string(),
+                num(record.load_factor),
+                t.label.clone(),
+                if t.direction == Direction::X { "x".into() } else { "y".into() },
+                num(mean_u),
+                num(reaction),
+            ]);
+        }
+        let u = &self.units;
+        let header = vec![
+            "stage".to_string(),
+            "step".into(),
+            "load_factor [-]".into(),
+            "target".into(),
+            "direction".into(),
+            format!("displacement [{}]", u.length),
+            format!("reaction [{}]", u.force_per_width),
+        ];
+        write_atomically(&self.out.join("history.csv"), &csv_bytes(&header, self.history.iter().cloned()))?;
+        self.summary.steps.push(record.clone());
+        self.summary.solver_stats = stats.clone();
+        self.write_summary()
+    }
+}
