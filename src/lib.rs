@@ -15,6 +15,7 @@ pub mod error;
 pub mod interface;
 pub mod linsol;
 pub mod mesh;
+pub mod meshgen;
 pub mod model;
 pub mod output;
 

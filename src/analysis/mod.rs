@@ -46,6 +46,26 @@ pub trait StepSink {
     fn step_done(&mut self, step: &StepResults, record: &StepRecord, stats: &SolverStats) -> Result<(), Error>;
 }
 
+/// Keeps every converged step in memory (for tests and for programs that use geoslip as a library).
+#[derive(Debug, Default)]
+pub struct Collect {
+    pub steps: Vec<(StepRecord, StepResults)>,
+}
+
+impl StepSink for Collect {
+    fn step_done(&mut self, step: &StepResults, record: &StepRecord, _: &SolverStats) -> Result<(), Error> {
+        self.steps.push((record.clone(), step.clone()));
+        Ok(())
+    }
+}
+
+impl Collect {
+    /// The last converged step.
+    pub fn last(&self) -> Option<&StepResults> {
+        self.steps.last().map(|(_, r)| r)
+    }
+}
+
 /// One converged step, as the run summary lists it.
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct StepRecord {
@@ -300,11 +320,15 @@ fn equilibrium(
                 rhs[*e] = state.f_ext[d] - f_int[d] - f_c[d];
             }
         }
+        let scale = elements.typical_stiffness();
         for k in 0..dofs.multipliers.len() {
-            rhs[dofs.multiplier_equation(k)] =
-                if system::multiplier_is_active(&state.interfaces, dofs, k) { -gaps[k] } else { -state.lambda[k] };
+            rhs[dofs.multiplier_equation(k)] = if system::multiplier_is_active(&state.interfaces, dofs, k) {
+                -scale * gaps[k]
+            } else {
+                -state.lambda[k]
+            };
         }
-        let triplets = system::assemble(elements, &rows, &state.interfaces, dofs);
+        let triplets = system::assemble(elements, &rows, &state.interfaces, dofs, scale);
         let (x, lin_res) = match system.solve(dofs.size(), &triplets, &rhs) {
             Ok(v) => v,
             Err(Failure::Singular { equations }) => {
@@ -324,7 +348,7 @@ fn equilibrium(
             }
         }
         for k in 0..dofs.multipliers.len() {
-            state.lambda[k] += x[dofs.multiplier_equation(k)];
+            state.lambda[k] += scale * x[dofs.multiplier_equation(k)];
         }
         // Converged when the out-of-balance force is small and the gaps are closed, and either the
         // correction is small against the increment or this was the first solve (a first solve that

@@ -35,6 +35,20 @@ impl ElementMatrices {
         }
         ElementMatrices { blocks }
     }
+
+    /// Mean absolute diagonal entry of the element matrices: the scale of the constraint rows.
+    pub fn typical_stiffness(&self) -> f64 {
+        let (sum, count) = self
+            .blocks
+            .iter()
+            .flat_map(|(_, k)| (0..k.nrows()).map(move |i| k[(i, i)].abs()))
+            .fold((0.0, 0usize), |(s, c), v| (s + v, c + 1));
+        if count == 0 || !(sum > 0.0) {
+            1.0
+        } else {
+            sum / count as f64
+        }
+    }
 }
 
 fn dofs_of(nodes: &[usize]) -> Vec<usize> {
@@ -85,8 +99,18 @@ pub fn multiplier_is_active(interfaces: &[Interface], dofs: &DofMap, k: usize) -
     matches!(state, NormalState::Active)
 }
 
-/// Assemble [K Cᵀ; C D] over the free DOFs and the multipliers, in a fixed triplet order.
-pub fn assemble(elements: &ElementMatrices, rows: &InterfaceRows, interfaces: &[Interface], dofs: &DofMap) -> Triplets {
+/// Assemble [K sCᵀ; sC sD] over the free DOFs and the multipliers, in a fixed triplet order.
+///
+/// The constraint rows are scaled by `s` (a typical stiffness, [`ElementMatrices::typical_stiffness`])
+/// so that they are commensurate with K; the unknowns are then Δλ/s. This equilibration keeps the
+/// saddle-point matrix well conditioned for backends that do not scale it themselves.
+pub fn assemble(
+    elements: &ElementMatrices,
+    rows: &InterfaceRows,
+    interfaces: &[Interface],
+    dofs: &DofMap,
+    scale: f64,
+) -> Triplets {
     let mut t = Triplets::default();
     let eq = |d: usize| dofs.equation[d];
     for (dl, k) in &elements.blocks {
@@ -114,12 +138,12 @@ pub fn assemble(elements: &ElementMatrices, rows: &InterfaceRows, interfaces: &[
         let active = multiplier_is_active(interfaces, dofs, k);
         for &(d, c) in row {
             if let Some(i) = eq(d) {
-                let c = if active { c } else { 0.0 };
+                let c = if active { scale * c } else { 0.0 };
                 t.push(m, i, c);
                 t.push(i, m, c);
             }
         }
-        t.push(m, m, if active { 0.0 } else { 1.0 });
+        t.push(m, m, if active { 0.0 } else { scale });
     }
     t
 }
@@ -210,10 +234,29 @@ impl LinearSystem {
             self.factorized = Some(matrix.clone());
         }
         let t = Instant::now();
-        let x = self.solver.solve(rhs)?;
+        let mut x = self.solver.solve(rhs)?;
         self.stats.solves += 1;
+        let mut residual = linsol::relative_residual(&matrix, &x, rhs);
+        // Iterative refinement (at most two corrections) when pivoting on the saddle point left more
+        // than round-off in the residual.
+        for _ in 0..2 {
+            if !(residual > 1e-14) || !x.iter().all(|v| v.is_finite()) {
+                break;
+            }
+            let ax = matrix.mul_vec(&x);
+            let r: Vec<f64> = rhs.iter().zip(&ax).map(|(b, a)| b - a).collect();
+            let dx = self.solver.solve(&r)?;
+            self.stats.solves += 1;
+            let refined: Vec<f64> = x.iter().zip(&dx).map(|(a, b)| a + b).collect();
+            let refined_residual = linsol::relative_residual(&matrix, &refined, rhs);
+            if refined_residual < residual {
+                x = refined;
+                residual = refined_residual;
+            } else {
+                break;
+            }
+        }
         self.stats.solve_seconds += t.elapsed().as_secs_f64();
-        let residual = linsol::relative_residual(&matrix, &x, rhs);
         if !x.iter().all(|v| v.is_finite()) || !(residual < 1e-6) {
             // A numerically singular matrix: LU divides by a (near) zero pivot.
             return Err(Failure::Singular { equations: Vec::new() });

@@ -1,0 +1,250 @@
+//! Structured meshes for tests, benchmarks and the generated examples: rectangular blocks of any
+//! solid type, and a complete pull-out box model.
+
+use crate::model::file::*;
+use std::collections::BTreeMap;
+
+/// A structured rectangular block.
+#[derive(Debug, Clone)]
+pub struct Block {
+    pub nodes: Vec<NodeRow>,
+    pub elements: Vec<SolidElementRow>,
+    pub nx: usize,
+    pub ny: usize,
+    first_node: u64,
+    /// Lattice step: 1 for linear elements, 2 for quadratic (mid-side nodes on the odd lattice).
+    step: usize,
+    x0: f64,
+    y0: f64,
+    dx: f64,
+    dy: f64,
+}
+
+impl Block {
+    /// A block from (x0, y0), `width` × `height`, `nx` × `ny` cells (each split in two triangles for
+    /// tri3/tri6). Node ids start at `first_node`, element ids at `first_element`.
+    #[allow(clippy::too_many_arguments)]
+    pub fn new(
+        kind: SolidKind,
+        (x0, y0): (f64, f64),
+        (width, height): (f64, f64),
+        (nx, ny): (usize, usize),
+        material: &str,
+        first_node: u64,
+        first_element: u64,
+    ) -> Block {
+        let step = if kind.is_quadratic() { 2 } else { 1 };
+        let (dx, dy) = (width / (nx * step) as f64, height / (ny * step) as f64);
+        let mut block =
+            Block { nodes: Vec::new(), elements: Vec::new(), nx, ny, first_node, step, x0, y0, dx, dy };
+        let (lx, ly) = (nx * step, ny * step);
+        for j in 0..=ly {
+            for i in 0..=lx {
+                // quad8 has no centre node; triangles use the cell-diagonal mid-points
+                let centre = step == 2 && i % 2 == 1 && j % 2 == 1;
+                if centre && kind == SolidKind::Quad8 {
+                    continue;
+                }
+                block.nodes.push(NodeRow(block.lattice_id(i, j), x0 + i as f64 * dx, y0 + j as f64 * dy));
+            }
+        }
+        let mut id = first_element;
+        let mut elements = Vec::new();
+        for cj in 0..ny {
+            for ci in 0..nx {
+                let (i, j) = (ci * step, cj * step);
+                let s = step;
+                let n = |a: usize, b: usize| block.lattice_id(i + a, j + b);
+                let mut push = |nodes: Vec<u64>, kind: SolidKind| {
+                    elements.push(SolidElementRow { id, kind, nodes, material: material.to_string() });
+                    id += 1;
+                };
+                match kind {
+                    SolidKind::Quad4 => push(vec![n(0, 0), n(1, 0), n(1, 1), n(0, 1)], kind),
+                    SolidKind::Quad8 => push(
+                        vec![n(0, 0), n(2, 0), n(2, 2), n(0, 2), n(1, 0), n(2, 1), n(1, 2), n(0, 1)],
+                        kind,
+                    ),
+                    SolidKind::Tri3 => {
+                        push(vec![n(0, 0), n(s, 0), n(s, s)], kind);
+                        push(vec![n(0, 0), n(s, s), n(0, s)], kind);
+                    }
+                    SolidKind::Tri6 => {
+                        push(vec![n(0, 0), n(2, 0), n(2, 2), n(1, 0), n(2, 1), n(1, 1)], kind);
+                        push(vec![n(0, 0), n(2, 2), n(0, 2), n(1, 1), n(1, 2), n(0, 1)], kind);
+                    }
+                }
+            }
+        }
+        block.elements = elements;
+        block
+    }
+
+    fn lattice_id(&self, i: usize, j: usize) -> u64 {
+        self.first_node + (j * (self.nx * self.step + 1) + i) as u64
+    }
+
+    /// Id of the corner-lattice node at column `i` (0..=nx), row `j` (0..=ny).
+    pub fn node(&self, i: usize, j: usize) -> u64 {
+        self.lattice_id(i * self.step, j * self.step)
+    }
+
+    /// Position of corner-lattice node (i, j).
+    pub fn position(&self, i: usize, j: usize) -> [f64; 2] {
+        [self.x0 + (i * self.step) as f64 * self.dx, self.y0 + (j * self.step) as f64 * self.dy]
+    }
+
+    /// Every node on row `j` of the corner lattice, including mid-side nodes between them.
+    pub fn row_nodes(&self, j: usize) -> Vec<u64> {
+        (0..=self.nx * self.step).map(|i| self.lattice_id(i, j * self.step)).collect()
+    }
+
+    /// Every node on column `i` of the corner lattice, including mid-side nodes.
+    pub fn column_nodes(&self, i: usize) -> Vec<u64> {
+        (0..=self.ny * self.step).map(|j| self.lattice_id(i * self.step, j)).collect()
+    }
+
+    /// The element sides along row `j`, left to right, as edge-set entries.
+    pub fn row_edges(&self, j: usize) -> Vec<Vec<u64>> {
+        (0..self.nx)
+            .map(|i| {
+                let (a, b) = (self.node(i, j), self.node(i + 1, j));
+                if self.step == 2 {
+                    vec![a, b, self.lattice_id(2 * i + 1, 2 * j)]
+                } else {
+                    vec![a, b]
+                }
+            })
+            .collect()
+    }
+}
+
+/// A pull-out box: a soil block `length` × `height` with a reinforcement at mid-height from the
+/// front face (x = 0) over `embedded` metres, a surcharge on top, a fixed base, and rigid front and
+/// back walls (ux = 0). Stage 1 applies the surcharge; stage 2 pulls the head by `pull` (towards −x)
+/// in `steps` increments.
+#[derive(Debug, Clone)]
+pub struct PullOutBox {
+    pub length: f64,
+    pub height: f64,
+    pub embedded: f64,
+    /// Elements along x and (per half) along y.
+    pub nx: usize,
+    pub ny_half: usize,
+    pub kind: SolidKind,
+    pub youngs_modulus: f64,
+    pub poissons_ratio: f64,
+    pub unit_weight: f64,
+    pub axial_stiffness: f64,
+    pub law: ShearLawSpec,
+    pub surcharge: f64,
+    pub pull: f64,
+    pub steps: usize,
+}
+
+impl Default for PullOutBox {
+    fn default() -> Self {
+        PullOutBox {
+            length: 1.0,
+            height: 0.6,
+            embedded: 0.8,
+            nx: 20,
+            ny_half: 3,
+            kind: SolidKind::Quad4,
+            youngs_modulus: 20_000.0,
+            poissons_ratio: 0.3,
+            unit_weight: 18.0,
+            axial_stiffness: 1000.0,
+            law: ShearLawSpec::Linear { shear_stiffness: 540.0 },
+            surcharge: 50.0,
+            pull: 0.01,
+            steps: 5,
+        }
+    }
+}
+
+impl PullOutBox {
+    /// The model file. The reinforcement ends at the last lattice column within `embedded`.
+    pub fn model(&self) -> ModelFile {
+        let block = Block::new(
+            self.kind,
+            (0.0, 0.0),
+            (self.length, self.height),
+            (self.nx, 2 * self.ny_half),
+            "soil",
+            1,
+            1,
+        );
+        let cells_embedded = ((self.embedded / self.length) * self.nx as f64).round().clamp(1.0, self.nx as f64) as usize;
+        let path: Vec<u64> = (0..=cells_embedded).map(|i| block.node(i, self.ny_half)).collect();
+        let mut node_sets = BTreeMap::new();
+        node_sets.insert("base".into(), block.row_nodes(0));
+        node_sets.insert("front".into(), block.column_nodes(0));
+        node_sets.insert("back".into(), block.column_nodes(self.nx));
+        let mut edge_sets = BTreeMap::new();
+        edge_sets.insert("top".into(), block.row_edges(2 * self.ny_half));
+        let mut soil = BTreeMap::new();
+        soil.insert(
+            "soil".into(),
+            SoilMaterial {
+                youngs_modulus: self.youngs_modulus,
+                poissons_ratio: self.poissons_ratio,
+                unit_weight: self.unit_weight,
+            },
+        );
+        let mut reinforcement = BTreeMap::new();
+        reinforcement.insert(
+            "grid".into(),
+            ReinforcementMaterial { axial_stiffness: self.axial_stiffness, tension_only: false, rupture_strength: None },
+        );
+        let factors = (1..=self.steps).map(|k| k as f64 / self.steps as f64).collect();
+        ModelFile {
+            title: "pull-out box".into(),
+            units: Units { length: LengthUnit::Metre, force: ForceUnit::Kilonewton },
+            materials: Materials { soil, reinforcement },
+            nodes: block.nodes.clone(),
+            elements: block.elements.clone(),
+            bars: Vec::new(),
+            node_sets,
+            edge_sets,
+            supports: vec![
+                support("base", &[Direction::X, Direction::Y]),
+                support("front", &[Direction::X]),
+                support("back", &[Direction::X]),
+            ],
+            interfaces: vec![InterfaceSpec {
+                name: "grid".into(),
+                reinforcement: Some(ReinforcementPath { path, material: "grid".into() }),
+                slave: None,
+                master: None,
+                master_normal: None,
+                law: self.law.clone(),
+            }],
+            stages: vec![
+                Stage {
+                    name: "surcharge".into(),
+                    load_factors: vec![1.0],
+                    loads: vec![LoadSpec::EdgeTraction { edge_set: "top".into(), pressure: self.surcharge, shear: 0.0 }],
+                    prescribed: Vec::new(),
+                },
+                Stage {
+                    name: "pull-out".into(),
+                    load_factors: factors,
+                    loads: Vec::new(),
+                    prescribed: vec![PrescribedDisplacement {
+                        node: None,
+                        nodes: None,
+                        set: Some("grid.head".into()),
+                        ux: Some(-self.pull),
+                        uy: None,
+                    }],
+                },
+            ],
+        }
+    }
+}
+
+/// A support on a named set.
+pub fn support(set: &str, fix: &[Direction]) -> Support {
+    Support { node: None, nodes: None, set: Some(set.into()), fix: fix.to_vec() }
+}

@@ -1,0 +1,120 @@
+//! Elastic shear-lag pull-out of a reinforcement on a rigid bed.
+//!
+//! Reference: shared/reference/closed-forms.md §1 (the shear-lag solution of a bar on elastic
+//! springs, e.g. Abramento & Whittle 1995; Chan, Yi & Scott 1993 use the same Ks idealisation):
+//! T(x) = P·sinh(α(L−x))/sinh(αL), u(x) = P·cosh(α(L−x))/(EA·α·sinh αL), α = sqrt(n_f·Ks/EA),
+//! head stiffness K = EA·α·tanh(αL).
+//!
+//! Parameters (the reference's example): EA = 1000 kN/m, Ks = 2000 kN/m³ per face, L = 1 m,
+//! P = 10 kN/m, n_f = 2 → α = 2, αL = 2, K = 1928.055 kN/m/m; 20 bar elements (expected
+//! discretisation error +0.12 %); test tolerance 0.5 %.
+//!
+//! ```text
+//!   fixed soil  ////////////////////////////   upper face (Ks)
+//!   P <-- o----o----o----o-- … --o----o        reinforcement, 20 bars, head at x = 0
+//!   fixed soil  ////////////////////////////   lower face (Ks)
+//! ```
+
+mod common;
+
+use geoslip::linsol::Backend;
+use geoslip::meshgen::{support, Block};
+use geoslip::model::file::*;
+use std::collections::BTreeMap;
+
+const EA: f64 = 1000.0;
+const KS: f64 = 2000.0;
+const L: f64 = 1.0;
+const P: f64 = 10.0;
+const ALPHA: f64 = 2.0;
+
+fn exact_head_stiffness() -> f64 {
+    EA * ALPHA * (ALPHA * L).tanh()
+}
+
+fn bar_on_rigid_bed(control: &str) -> ModelFile {
+    let block = Block::new(SolidKind::Quad4, (0.0, -0.1), (L, 0.2), (20, 2), "bed", 1, 1);
+    let path: Vec<u64> = (0..=20).map(|i| block.node(i, 1)).collect();
+    let mut node_sets = BTreeMap::new();
+    node_sets.insert("soil".into(), block.nodes.iter().map(|n| n.0).collect());
+    let mut soil = BTreeMap::new();
+    soil.insert("bed".into(), SoilMaterial { youngs_modulus: 1.0e5, poissons_ratio: 0.3, unit_weight: 0.0 });
+    let mut reinforcement = BTreeMap::new();
+    reinforcement.insert("grid".into(), ReinforcementMaterial { axial_stiffness: EA, tension_only: false, rupture_strength: None });
+    let (loads, prescribed) = if control == "load" {
+        (vec![LoadSpec::Point { node: None, nodes: None, set: Some("grid.head".into()), fx: -P, fy: 0.0 }], vec![])
+    } else {
+        let u = P / exact_head_stiffness();
+        (vec![], vec![PrescribedDisplacement { node: None, nodes: None, set: Some("grid.head".into()), ux: Some(-u), uy: None }])
+    };
+    ModelFile {
+        title: "shear-lag pull-out on a rigid bed".into(),
+        units: Units { length: LengthUnit::Metre, force: ForceUnit::Kilonewton },
+        materials: Materials { soil, reinforcement },
+        nodes: block.nodes,
+        elements: block.elements,
+        bars: Vec::new(),
+        node_sets,
+        edge_sets: BTreeMap::new(),
+        supports: vec![support("soil", &[Direction::X, Direction::Y])],
+        interfaces: vec![InterfaceSpec {
+            name: "grid".into(),
+            reinforcement: Some(ReinforcementPath { path, material: "grid".into() }),
+            slave: None,
+            master: None,
+            master_normal: None,
+            law: ShearLawSpec::Linear { shear_stiffness: KS },
+        }],
+        stages: vec![Stage { name: "pull".into(), load_factors: vec![1.0], loads, prescribed }],
+    }
+}
+
+fn head_and_tail(c: &geoslip::analysis::Collect, model: &geoslip::model::Model) -> (f64, f64) {
+    let bars = &model.node_sets["grid.reinforcement"];
+    let head = model.mesh.node_id(bars[0]);
+    let tail = model.mesh.node_id(*bars.last().unwrap());
+    (common::displacement(c, head)[0], common::displacement(c, tail)[0])
+}
+
+#[test]
+fn head_stiffness_under_load_control_within_half_a_percent() {
+    let model = common::model(&bar_on_rigid_bed("load"), "shear-lag.toml");
+    for backend in [Backend::Dense, Backend::Faer] {
+        let c = common::run(&model, backend);
+        let (u_head, u_tail) = head_and_tail(&c, &model);
+        let k = P / -u_head;
+        let err = (k - exact_head_stiffness()) / exact_head_stiffness();
+        assert!(err.abs() < 0.005, "{backend:?}: K = {k}, error {err}");
+        // lumped nodal springs make the discrete bar slightly stiffer (+0.12 % at 20 elements)
+        assert!(err > 0.0 && err < 0.002, "{backend:?}: error {err} outside the expected +0.12 %");
+        // u_tail = P/(EA·α·sinh αL) = 1.37860 mm
+        let exact_tail = P / (EA * ALPHA * (ALPHA * L).sinh());
+        assert!(common::relative_error(-u_tail, exact_tail) < 0.01, "{backend:?}: u_tail {u_tail}");
+
+        let r = c.last().unwrap();
+        // T(0.5) = P·sinh(1)/sinh(2) = 3.24027: the bars either side of x = 0.5
+        let t_mid: Vec<f64> = r.bar_forces.iter().filter(|b| (b.midpoint[0] - 0.5).abs() < 0.03).map(|b| b.axial_force).collect();
+        assert_eq!(t_mid.len(), 2);
+        let t = 0.5 * (t_mid[0] + t_mid[1]);
+        assert!(common::relative_error(t, P * 1f64.sinh() / 2f64.sinh()) < 0.01, "T(0.5) = {t}");
+
+        // Equilibrium: the shear transferred over both faces balances the pull.
+        let shear: f64 = r.interface_points.iter().map(|p| p.tau * p.tributary).sum();
+        assert!((shear - P).abs() < 1e-9 * P, "interface shear {shear} vs pull {P}");
+        // τ = Ks·slip on each face, slip positive towards the head
+        assert!(r.interface_points.iter().all(|p| p.slip > 0.0 && (p.tau - KS * p.slip).abs() < 1e-9));
+    }
+}
+
+#[test]
+fn head_stiffness_under_displacement_control_within_half_a_percent() {
+    let model = common::model(&bar_on_rigid_bed("displacement"), "shear-lag.toml");
+    let c = common::run(&model, Backend::Faer);
+    let r = c.last().unwrap();
+    let head = model.node_sets["grid.head"][0];
+    let reaction = r.reaction_vector[2 * head];
+    let u = P / exact_head_stiffness();
+    // the head's reaction is the pull-out force, pointing out of the soil (−x)
+    let k = -reaction / u;
+    assert!(common::relative_error(k, exact_head_stiffness()) < 0.005, "K = {k}");
+}
