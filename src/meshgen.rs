@@ -34,6 +34,7 @@ impl Block {
         first_element: u64,
     ) -> Block {
         let step = if kind.is_quadratic() { 2 } else { 1 };
+        // Positions are computed as i·width/n (one rounding), so that 3·1.0/20 prints as 0.15.
         let (dx, dy) = (width / (nx * step) as f64, height / (ny * step) as f64);
         let mut block =
             Block { nodes: Vec::new(), elements: Vec::new(), nx, ny, first_node, step, x0, y0, dx, dy };
@@ -45,7 +46,7 @@ impl Block {
                 if centre && kind == SolidKind::Quad8 {
                     continue;
                 }
-                block.nodes.push(NodeRow(block.lattice_id(i, j), x0 + i as f64 * dx, y0 + j as f64 * dy));
+                block.nodes.push(NodeRow(block.lattice_id(i, j), block.coordinate(0, i), block.coordinate(1, j)));
             }
         }
         let mut id = first_element;
@@ -80,6 +81,15 @@ impl Block {
         block
     }
 
+    fn coordinate(&self, axis: usize, k: usize) -> f64 {
+        let (origin, size, cells) = if axis == 0 {
+            (self.x0, self.dx * (self.nx * self.step) as f64, self.nx * self.step)
+        } else {
+            (self.y0, self.dy * (self.ny * self.step) as f64, self.ny * self.step)
+        };
+        origin + (k as f64 * size) / cells as f64
+    }
+
     fn lattice_id(&self, i: usize, j: usize) -> u64 {
         self.first_node + (j * (self.nx * self.step + 1) + i) as u64
     }
@@ -91,7 +101,7 @@ impl Block {
 
     /// Position of corner-lattice node (i, j).
     pub fn position(&self, i: usize, j: usize) -> [f64; 2] {
-        [self.x0 + (i * self.step) as f64 * self.dx, self.y0 + (j * self.step) as f64 * self.dy]
+        [self.coordinate(0, i * self.step), self.coordinate(1, j * self.step)]
     }
 
     /// Every node on row `j` of the corner lattice, including mid-side nodes between them.

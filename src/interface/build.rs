@@ -285,6 +285,18 @@ pub fn pair(
     if master.len() < 2 {
         problems.push(format!("{field}.master"), &entity, "a master face needs at least 2 nodes");
     }
+    for (what, line) in [("slave", &slave), ("master", &master)] {
+        let mut seen = HashMap::new();
+        for (k, &n) in line.iter().enumerate() {
+            if let Some(first) = seen.insert(n, k) {
+                problems.push(
+                    format!("{field}.{what}[{k}]"),
+                    &entity,
+                    format!("node {} appears twice in the {what} line (first at position {first})", mesh.node_id(n)),
+                );
+            }
+        }
+    }
     if let Some(&s) = slave.iter().find(|s| master.contains(s)) {
         problems.push(
             format!("{field}.slave"),

@@ -101,8 +101,14 @@ pub(super) fn validate(source: &Path, file: &ModelFile) -> Result<Model, ModelEr
         if material.is_none() {
             p.push(format!("{field}.material"), &entity, format!("no soil material named \"{}\"", e.material));
         }
-        if p.len() == before {
-            let coords: Vec<[f64; 2]> = nodes.iter().map(|&i| mesh.position(i)).collect();
+        let coords: Vec<[f64; 2]> = nodes.iter().map(|&i| mesh.position(i)).collect();
+        // A node with non-finite coordinates is reported under `nodes`; its elements have no area
+        // to check.
+        let finite = coords.iter().all(|c| c[0].is_finite() && c[1].is_finite());
+        if !finite {
+            mesh_ok = false;
+        }
+        if p.len() == before && finite {
             if let Err(BadJacobian { det }) = mapped_points(e.kind, &coords) {
                 let msg = if det < 0.0 {
                     "has negative area or is inverted: list its corners counter-clockwise".to_string()
@@ -280,7 +286,7 @@ pub(super) fn validate(source: &Path, file: &ModelFile) -> Result<Model, ModelEr
     let resolve = |node: Option<u64>, nodes: Option<&[u64]>, set: Option<&str>, field: &str, p: &mut Problems, with_twins: bool| -> Vec<NodeIndex> {
         let given = node.is_some() as u8 + nodes.is_some() as u8 + set.is_some() as u8;
         if given != 1 {
-            p.push(field, None, "give exactly one of `node`, `nodes` or `set`");
+            p.push(field, target_label(node, nodes, set), "give exactly one of `node`, `nodes` or `set`");
             return Vec::new();
         }
         let mut out = Vec::new();
@@ -315,7 +321,11 @@ pub(super) fn validate(source: &Path, file: &ModelFile) -> Result<Model, ModelEr
         let t = s.target();
         let field = format!("supports[{k}]");
         if s.fix.is_empty() {
-            p.push(format!("{field}.fix"), None, "list the directions to fix: [\"x\"], [\"y\"] or [\"x\", \"y\"]");
+            p.push(
+                format!("{field}.fix"),
+                target_label(t.node, t.nodes, t.set),
+                "list the directions to fix: [\"x\"], [\"y\"] or [\"x\", \"y\"]",
+            );
         }
         for n in resolve(t.node, t.nodes, t.set, &field, &mut p, true) {
             for &d in &s.fix {
@@ -427,6 +437,28 @@ pub(super) fn validate(source: &Path, file: &ModelFile) -> Result<Model, ModelEr
         })
     } else {
         Err(ModelError { file: source.to_path_buf(), problems: p.into_vec() })
+    }
+}
+
+/// Names what a support, load or prescribed displacement targets, as written: `node 3`,
+/// `nodes 1, 2`, `node set "left"` (joined by "and" when several are given), or `no node, nodes or
+/// set` when none is.
+fn target_label(node: Option<u64>, nodes: Option<&[u64]>, set: Option<&str>) -> String {
+    let mut parts = Vec::new();
+    if let Some(n) = node {
+        parts.push(format!("node {n}"));
+    }
+    if let Some(ns) = nodes {
+        let ids: Vec<String> = ns.iter().map(|i| i.to_string()).collect();
+        parts.push(format!("nodes {}", ids.join(", ")));
+    }
+    if let Some(s) = set {
+        parts.push(format!("node set \"{s}\""));
+    }
+    if parts.is_empty() {
+        "no node, nodes or set".to_string()
+    } else {
+        parts.join(" and ")
     }
 }
 
