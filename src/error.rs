@@ -73,13 +73,21 @@ pub enum Error {
     Parse { path: PathBuf, message: String },
     #[error(transparent)]
     Model(#[from] ModelError),
-    #[error("stage \"{stage}\", step {step}: {source}")]
-    Solve { stage: String, step: usize, source: SolveError },
+    #[error("{}: stage \"{stage}\", step {step}: {source}", .file.display())]
+    Solve { file: PathBuf, stage: String, step: usize, source: SolveError },
     #[error(
-        "stage \"{stage}\", step {step}: no equilibrium after {iterations} iterations \
-         (force residual {residual:.3e} of {reference:.3e}); {hint}"
+        "{}: stage \"{stage}\", step {step}: no equilibrium after {iterations} iterations \
+         (force residual {residual:.3e} of {reference:.3e}); {hint}", .file.display()
     )]
-    NotConverged { stage: String, step: usize, iterations: usize, residual: f64, reference: f64, hint: String },
+    NotConverged {
+        file: PathBuf,
+        stage: String,
+        step: usize,
+        iterations: usize,
+        residual: f64,
+        reference: f64,
+        hint: String,
+    },
     #[error("{path}: cannot write output: {source}")]
     Write { path: PathBuf, source: std::io::Error },
 }

@@ -168,10 +168,9 @@ fn check(path: &Path) -> Vec<String> {
             Ok(Ok(_)) => failures.push("the run finished without an error".into()),
             Ok(Err(e)) => {
                 let message = e.to_string();
-                // A refused model names its file like a load error does. A solve failure names the
-                // stage, the step and the unknowns, but not the file: `Error::Solve` does not carry
-                // it (the command line prints it next to the model it was given).
-                if matches!(e, Error::Model(_)) && !message.contains(&name) {
+                // Run-time errors name the file like load errors do (a solve failure also names the
+                // stage, the step and the unknowns).
+                if !message.contains(&name) {
                     failures.push("the error does not name the file".into());
                 }
                 failures.extend(missing(&message, &expect.run));

@@ -104,7 +104,7 @@ pub fn run(model: &Model, options: &RunOptions, sink: &mut dyn StepSink) -> Resu
     refuse_laws_not_yet_implemented(model)?;
     let elements = ElementMatrices::compute(model);
     let mut system = LinearSystem::new(options.backend)
-        .map_err(|source| Error::Solve { stage: model.stages[0].name.clone(), step: 1, source })?;
+        .map_err(|source| Error::Solve { file: model.source.clone(), stage: model.stages[0].name.clone(), step: 1, source })?;
     let dof_count = 2 * model.mesh.nodes.len();
     let mut state = State {
         u: vec![0.0; dof_count],
@@ -136,7 +136,7 @@ pub fn run(model: &Model, options: &RunOptions, sink: &mut dyn StepSink) -> Resu
             }
             let (iterations, force_residual, linear_residuals) =
                 equilibrium(model, options, &elements, &mut system, &dofs, &mut state)
-                    .map_err(|e| e.at(&stage.name, step))?;
+                    .map_err(|e| e.at(&model.source, &stage.name, step))?;
             let rows = InterfaceRows::new(model, &state.interfaces, &dofs);
             let results = StepResults::compute(model, &elements, &rows, &state, &held);
             let record = StepRecord {
@@ -280,10 +280,11 @@ enum IncrementError {
 }
 
 impl IncrementError {
-    fn at(self, stage: &str, step: usize) -> Error {
+    fn at(self, file: &std::path::Path, stage: &str, step: usize) -> Error {
         match self {
-            IncrementError::Solve(source) => Error::Solve { stage: stage.to_string(), step, source },
+            IncrementError::Solve(source) => Error::Solve { file: file.to_path_buf(), stage: stage.to_string(), step, source },
             IncrementError::NotConverged { iterations, residual, reference } => Error::NotConverged {
+                file: file.to_path_buf(),
                 stage: stage.to_string(),
                 step,
                 iterations,

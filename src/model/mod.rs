@@ -91,13 +91,25 @@ impl Model {
 /// Parse a model file's text, by extension.
 ///
 /// # Errors
-/// [`Error::Parse`] with the parser's message (it carries the line and column).
+/// [`Error::Parse`] with the field path (`materials.soil.clay`) and the parser's message, which
+/// carries the line and column.
 pub fn parse(path: &Path, text: &str) -> Result<ModelFile, Error> {
+    let fail = |field: String, message: String| {
+        let message = if field.is_empty() || field == "." { message } else { format!("{field}: {message}") };
+        Error::Parse { path: path.to_path_buf(), message }
+    };
     let is_json = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("json"));
     if is_json {
-        serde_json::from_str(text).map_err(|e| Error::Parse { path: path.to_path_buf(), message: e.to_string() })
+        let mut de = serde_json::Deserializer::from_str(text);
+        serde_path_to_error::deserialize(&mut de).map_err(|e| fail(e.path().to_string(), e.into_inner().to_string()))
     } else {
-        toml::from_str(text).map_err(|e| Error::Parse { path: path.to_path_buf(), message: e.to_string() })
+        let de = toml::Deserializer::parse(text).map_err(|e| fail(String::new(), e.to_string()))?;
+        serde_path_to_error::deserialize(de).map_err(|e| {
+            let field = e.path().to_string();
+            let mut inner = e.into_inner();
+            inner.set_input(Some(text)); // so that the message shows the line and column
+            fail(field, inner.to_string())
+        })
     }
 }
 
