@@ -33,9 +33,7 @@ enum Command {
         out: Option<PathBuf>,
     },
     /// Check a model and list every problem found.
-    Check {
-        model: PathBuf,
-    },
+    Check { model: PathBuf },
     /// Print the JSON Schema of the model file.
     Schema,
     /// List the solver backends compiled into this build.
@@ -86,7 +84,7 @@ fn main() -> ExitCode {
     }
 }
 
-fn run(path: &PathBuf, solver: Backend, out: Option<PathBuf>) -> Result<(), geoslip::Error> {
+fn run(path: &std::path::Path, solver: Backend, out: Option<PathBuf>) -> Result<(), geoslip::Error> {
     let started = std::time::Instant::now();
     let model = Model::load(path)?;
     let out = out.unwrap_or_else(|| {

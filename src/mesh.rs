@@ -95,8 +95,11 @@ pub struct SolidSide {
 /// Soil element sides keyed by their (sorted) corner nodes, built once per mesh.
 #[derive(Debug, Clone, Default)]
 pub struct SideMap {
-    sides: HashMap<(NodeIndex, NodeIndex), Vec<(usize, [NodeIndex; 2], bool)>>,
+    /// (sorted corner pair) → every (element, its corners in its own order, quadratic side).
+    sides: HashMap<(NodeIndex, NodeIndex), Vec<SideOwner>>,
 }
+
+type SideOwner = (usize, [NodeIndex; 2], bool);
 
 impl SideMap {
     pub fn new(mesh: &Mesh) -> Self {

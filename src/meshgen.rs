@@ -36,8 +36,7 @@ impl Block {
         let step = if kind.is_quadratic() { 2 } else { 1 };
         // Positions are computed as i·width/n (one rounding), so that 3·1.0/20 prints as 0.15.
         let (dx, dy) = (width / (nx * step) as f64, height / (ny * step) as f64);
-        let mut block =
-            Block { nodes: Vec::new(), elements: Vec::new(), nx, ny, first_node, step, x0, y0, dx, dy };
+        let mut block = Block { nodes: Vec::new(), elements: Vec::new(), nx, ny, first_node, step, x0, y0, dx, dy };
         let (lx, ly) = (nx * step, ny * step);
         for j in 0..=ly {
             for i in 0..=lx {
@@ -62,10 +61,9 @@ impl Block {
                 };
                 match kind {
                     SolidKind::Quad4 => push(vec![n(0, 0), n(1, 0), n(1, 1), n(0, 1)], kind),
-                    SolidKind::Quad8 => push(
-                        vec![n(0, 0), n(2, 0), n(2, 2), n(0, 2), n(1, 0), n(2, 1), n(1, 2), n(0, 1)],
-                        kind,
-                    ),
+                    SolidKind::Quad8 => {
+                        push(vec![n(0, 0), n(2, 0), n(2, 2), n(0, 2), n(1, 0), n(2, 1), n(1, 2), n(0, 1)], kind)
+                    }
                     SolidKind::Tri3 => {
                         push(vec![n(0, 0), n(s, 0), n(s, s)], kind);
                         push(vec![n(0, 0), n(s, s), n(0, s)], kind);
@@ -176,16 +174,10 @@ impl Default for PullOutBox {
 impl PullOutBox {
     /// The model file. The reinforcement ends at the last lattice column within `embedded`.
     pub fn model(&self) -> ModelFile {
-        let block = Block::new(
-            self.kind,
-            (0.0, 0.0),
-            (self.length, self.height),
-            (self.nx, 2 * self.ny_half),
-            "soil",
-            1,
-            1,
-        );
-        let cells_embedded = ((self.embedded / self.length) * self.nx as f64).round().clamp(1.0, self.nx as f64) as usize;
+        let block =
+            Block::new(self.kind, (0.0, 0.0), (self.length, self.height), (self.nx, 2 * self.ny_half), "soil", 1, 1);
+        let cells_embedded =
+            ((self.embedded / self.length) * self.nx as f64).round().clamp(1.0, self.nx as f64) as usize;
         let path: Vec<u64> = (0..=cells_embedded).map(|i| block.node(i, self.ny_half)).collect();
         let mut node_sets = BTreeMap::new();
         node_sets.insert("base".into(), block.row_nodes(0));
@@ -205,7 +197,11 @@ impl PullOutBox {
         let mut reinforcement = BTreeMap::new();
         reinforcement.insert(
             "grid".into(),
-            ReinforcementMaterial { axial_stiffness: self.axial_stiffness, tension_only: false, rupture_strength: None },
+            ReinforcementMaterial {
+                axial_stiffness: self.axial_stiffness,
+                tension_only: false,
+                rupture_strength: None,
+            },
         );
         let factors = (1..=self.steps).map(|k| k as f64 / self.steps as f64).collect();
         ModelFile {
@@ -234,7 +230,11 @@ impl PullOutBox {
                 Stage {
                     name: "surcharge".into(),
                     load_factors: vec![1.0],
-                    loads: vec![LoadSpec::EdgeTraction { edge_set: "top".into(), pressure: self.surcharge, shear: 0.0 }],
+                    loads: vec![LoadSpec::EdgeTraction {
+                        edge_set: "top".into(),
+                        pressure: self.surcharge,
+                        shear: 0.0,
+                    }],
                     prescribed: Vec::new(),
                 },
                 Stage {

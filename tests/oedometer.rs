@@ -77,7 +77,12 @@ fn surcharge_is_exact(kind: SolidKind) {
         for (_, x, u) in &r.displacements {
             // uy is linear in y: uy(y) = −s·y/H
             let exact = -settlement * x[1] / H;
-            assert!((u[1] - exact).abs() <= 1e-8 * settlement, "{kind:?}/{backend:?}: uy at y={} is {} not {exact}", x[1], u[1]);
+            assert!(
+                (u[1] - exact).abs() <= 1e-8 * settlement,
+                "{kind:?}/{backend:?}: uy at y={} is {} not {exact}",
+                x[1],
+                u[1]
+            );
             assert!(u[0].abs() <= 1e-8 * settlement);
         }
         let sigma_h = -NU * Q / (1.0 - NU);
@@ -112,7 +117,14 @@ fn oedometer_surcharge_quad8() {
 fn self_weight_top_settlement(kind: SolidKind) -> f64 {
     let model = common::model(&column(kind, true), "oedometer-self-weight.toml");
     let c = common::run(&model, Backend::Faer);
-    let top = c.last().unwrap().displacements.iter().filter(|(_, x, _)| (x[1] - H).abs() < 1e-12).map(|(_, _, u)| u[1]).collect::<Vec<_>>();
+    let top = c
+        .last()
+        .unwrap()
+        .displacements
+        .iter()
+        .filter(|(_, x, _)| (x[1] - H).abs() < 1e-12)
+        .map(|(_, _, u)| u[1])
+        .collect::<Vec<_>>();
     top.iter().sum::<f64>() / top.len() as f64
 }
 

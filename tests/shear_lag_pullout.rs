@@ -40,12 +40,24 @@ fn bar_on_rigid_bed(control: &str) -> ModelFile {
     let mut soil = BTreeMap::new();
     soil.insert("bed".into(), SoilMaterial { youngs_modulus: 1.0e5, poissons_ratio: 0.3, unit_weight: 0.0 });
     let mut reinforcement = BTreeMap::new();
-    reinforcement.insert("grid".into(), ReinforcementMaterial { axial_stiffness: EA, tension_only: false, rupture_strength: None });
+    reinforcement.insert(
+        "grid".into(),
+        ReinforcementMaterial { axial_stiffness: EA, tension_only: false, rupture_strength: None },
+    );
     let (loads, prescribed) = if control == "load" {
         (vec![LoadSpec::Point { node: None, nodes: None, set: Some("grid.head".into()), fx: -P, fy: 0.0 }], vec![])
     } else {
         let u = P / exact_head_stiffness();
-        (vec![], vec![PrescribedDisplacement { node: None, nodes: None, set: Some("grid.head".into()), ux: Some(-u), uy: None }])
+        (
+            vec![],
+            vec![PrescribedDisplacement {
+                node: None,
+                nodes: None,
+                set: Some("grid.head".into()),
+                ux: Some(-u),
+                uy: None,
+            }],
+        )
     };
     ModelFile {
         title: "shear-lag pull-out on a rigid bed".into(),
@@ -93,7 +105,8 @@ fn head_stiffness_under_load_control_within_half_a_percent() {
 
         let r = c.last().unwrap();
         // T(0.5) = P·sinh(1)/sinh(2) = 3.24027: the bars either side of x = 0.5
-        let t_mid: Vec<f64> = r.bar_forces.iter().filter(|b| (b.midpoint[0] - 0.5).abs() < 0.03).map(|b| b.axial_force).collect();
+        let t_mid: Vec<f64> =
+            r.bar_forces.iter().filter(|b| (b.midpoint[0] - 0.5).abs() < 0.03).map(|b| b.axial_force).collect();
         assert_eq!(t_mid.len(), 2);
         let t = 0.5 * (t_mid[0] + t_mid[1]);
         assert!(common::relative_error(t, P * 1f64.sinh() / 2f64.sinh()) < 0.01, "T(0.5) = {t}");

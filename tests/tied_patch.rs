@@ -70,7 +70,13 @@ fn stacked_blocks(kind: SolidKind, nx: usize) -> ModelFile {
             name: "compress".into(),
             load_factors: vec![1.0],
             loads: Vec::new(),
-            prescribed: vec![PrescribedDisplacement { node: None, nodes: None, set: Some("top".into()), ux: None, uy: Some(-0.01) }],
+            prescribed: vec![PrescribedDisplacement {
+                node: None,
+                nodes: None,
+                set: Some("top".into()),
+                ux: None,
+                uy: Some(-0.01),
+            }],
         }],
     }
 }
@@ -83,12 +89,21 @@ fn passes_to_round_off(kind: SolidKind) {
         let c = common::run(&model, backend);
         let r = c.last().unwrap();
         for s in &r.stresses {
-            assert!((s.stress[1] - exact).abs() <= 1e-12 * exact.abs(), "{kind:?}/{backend:?}: σy {} vs {exact}", s.stress[1]);
+            assert!(
+                (s.stress[1] - exact).abs() <= 1e-12 * exact.abs(),
+                "{kind:?}/{backend:?}: σy {} vs {exact}",
+                s.stress[1]
+            );
             assert!(s.stress[0].abs() <= 1e-12 * exact.abs(), "{kind:?}/{backend:?}: σx {}", s.stress[0]);
             assert!(s.stress[2].abs() <= 1e-12 * exact.abs(), "{kind:?}/{backend:?}: τxy {}", s.stress[2]);
         }
         for p in &r.interface_points {
-            assert!((p.sigma_n + exact).abs() <= 1e-12 * exact.abs(), "{kind:?}/{backend:?}: σn {} at node {}", p.sigma_n, p.slave_node);
+            assert!(
+                (p.sigma_n + exact).abs() <= 1e-12 * exact.abs(),
+                "{kind:?}/{backend:?}: σn {} at node {}",
+                p.sigma_n,
+                p.slave_node
+            );
             assert!(p.tau.abs() <= 1e-12 * exact.abs());
         }
     }

@@ -103,8 +103,12 @@ pub struct State {
 pub fn run(model: &Model, options: &RunOptions, sink: &mut dyn StepSink) -> Result<SolverStats, Error> {
     refuse_laws_not_yet_implemented(model)?;
     let elements = ElementMatrices::compute(model);
-    let mut system = LinearSystem::new(options.backend)
-        .map_err(|source| Error::Solve { file: model.source.clone(), stage: model.stages[0].name.clone(), step: 1, source })?;
+    let mut system = LinearSystem::new(options.backend).map_err(|source| Error::Solve {
+        file: model.source.clone(),
+        stage: model.stages[0].name.clone(),
+        step: 1,
+        source,
+    })?;
     let dof_count = 2 * model.mesh.nodes.len();
     let mut state = State {
         u: vec![0.0; dof_count],
@@ -198,7 +202,8 @@ pub fn external_force(model: &Model, loads: &[Load]) -> Vec<f64> {
                 for (s, e) in mesh.solids.iter().enumerate() {
                     let gamma = model.soil(s).unit_weight * factor;
                     let coords: Vec<[f64; 2]> = e.nodes.iter().map(|&n| mesh.position(n)).collect();
-                    let fe = solid::body_force(e.kind, &coords, [0.0, -gamma]).expect("element Jacobians were checked when the model was read");
+                    let fe = solid::body_force(e.kind, &coords, [0.0, -gamma])
+                        .expect("element Jacobians were checked when the model was read");
                     for (a, &n) in e.nodes.iter().enumerate() {
                         f[2 * n] += fe[2 * a];
                         f[2 * n + 1] += fe[2 * a + 1];
@@ -232,8 +237,11 @@ fn mark_redundant_rows(model: &Model, interfaces: &mut [Interface], dofs: &DofMa
     let mut report = Vec::new();
     for (k, row) in rows.constraint_rows.iter().enumerate() {
         let m = dofs.multipliers[k];
-        let mut free: Vec<(usize, f64)> =
-            row.iter().filter_map(|&(d, c)| dofs.equation[d].map(|e| (e, c))).filter(|&(_, c)| c.abs() > 1e-12).collect();
+        let mut free: Vec<(usize, f64)> = row
+            .iter()
+            .filter_map(|&(d, c)| dofs.equation[d].map(|e| (e, c)))
+            .filter(|&(_, c)| c.abs() > 1e-12)
+            .collect();
         free.sort_by_key(|&(e, _)| e);
         let name = |interfaces: &[Interface], k: usize| {
             let m = dofs.multipliers[k];
@@ -258,7 +266,11 @@ fn mark_redundant_rows(model: &Model, interfaces: &mut [Interface], dofs: &DofMa
         let state = if m.tangential { &mut point.tangential_state } else { &mut point.normal_state };
         match carried_by {
             Some(by) => {
-                report.push(format!("{} ({}): carried by {by}", name(interfaces, k), if m.tangential { "tangential" } else { "normal" }));
+                report.push(format!(
+                    "{} ({}): carried by {by}",
+                    name(interfaces, k),
+                    if m.tangential { "tangential" } else { "normal" }
+                ));
                 let point = &mut interfaces[m.interface].faces[m.face].points[m.point];
                 let state = if m.tangential { &mut point.tangential_state } else { &mut point.normal_state };
                 *state = NormalState::Redundant { carried_by: by };
@@ -282,7 +294,9 @@ enum IncrementError {
 impl IncrementError {
     fn at(self, file: &std::path::Path, stage: &str, step: usize) -> Error {
         match self {
-            IncrementError::Solve(source) => Error::Solve { file: file.to_path_buf(), stage: stage.to_string(), step, source },
+            IncrementError::Solve(source) => {
+                Error::Solve { file: file.to_path_buf(), stage: stage.to_string(), step, source }
+            }
             IncrementError::NotConverged { iterations, residual, reference } => Error::NotConverged {
                 file: file.to_path_buf(),
                 stage: stage.to_string(),

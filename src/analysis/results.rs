@@ -67,7 +67,13 @@ pub struct StepResults {
 }
 
 impl StepResults {
-    pub fn compute(model: &Model, elements: &ElementMatrices, rows: &InterfaceRows, state: &State, held: &[bool]) -> Self {
+    pub fn compute(
+        model: &Model,
+        elements: &ElementMatrices,
+        rows: &InterfaceRows,
+        state: &State,
+        held: &[bool],
+    ) -> Self {
         let mesh = &model.mesh;
         let n_dof = state.u.len();
         let f_int = system::internal_force(elements, rows, &state.u);
@@ -93,7 +99,12 @@ impl StepResults {
             .iter()
             .map(|b| {
                 let (a, c) = (mesh.position(b.nodes[0]), mesh.position(b.nodes[1]));
-                let u = [state.u[2 * b.nodes[0]], state.u[2 * b.nodes[0] + 1], state.u[2 * b.nodes[1]], state.u[2 * b.nodes[1] + 1]];
+                let u = [
+                    state.u[2 * b.nodes[0]],
+                    state.u[2 * b.nodes[0] + 1],
+                    state.u[2 * b.nodes[1]],
+                    state.u[2 * b.nodes[1] + 1],
+                ];
                 BarForce {
                     bar: b.id,
                     nodes: [mesh.node_id(b.nodes[0]), mesh.node_id(b.nodes[1])],
@@ -111,7 +122,8 @@ impl StepResults {
                 for point in &face.points {
                     let lambda = state.lambda[k];
                     k += 1;
-                    let slip: f64 = system::row_dofs(&face.tangential_row(point)).iter().map(|&(d, c)| c * state.u[d]).sum();
+                    let slip: f64 =
+                        system::row_dofs(&face.tangential_row(point)).iter().map(|&(d, c)| c * state.u[d]).sum();
                     let tau = match &interface.law {
                         ShearLaw::Tie => {
                             let lt = state.lambda[k];
@@ -130,7 +142,10 @@ impl StepResults {
                         face: face.label.clone(),
                         slave_node: mesh.node_id(point.slave),
                         x: mesh.position(point.slave),
-                        master_nodes: [mesh.node_id(face.master[point.segment]), mesh.node_id(face.master[point.segment + 1])],
+                        master_nodes: [
+                            mesh.node_id(face.master[point.segment]),
+                            mesh.node_id(face.master[point.segment + 1]),
+                        ],
                         xi: point.xi,
                         state: state_name,
                         tributary: point.tributary,

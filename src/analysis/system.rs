@@ -25,7 +25,8 @@ impl ElementMatrices {
             let m = model.soil(s);
             let material = solid::PlaneStrain { youngs_modulus: m.youngs_modulus, poissons_ratio: m.poissons_ratio };
             // Validation has checked every Jacobian; a failure here would be a bug, not bad input.
-            let k = solid::stiffness(e.kind, &coords, &material).expect("element Jacobians were checked when the model was read");
+            let k = solid::stiffness(e.kind, &coords, &material)
+                .expect("element Jacobians were checked when the model was read");
             blocks.push((dofs_of(&e.nodes), k));
         }
         for b in &mesh.bars {

@@ -150,7 +150,10 @@ pub fn split_reinforcement(
         problems.push(
             format!("{field}.path[0]"),
             &entity,
-            format!("the head node {} is not on the mesh boundary: the path must start at the front face", mesh.node_id(path[0])),
+            format!(
+                "the head node {} is not on the mesh boundary: the path must start at the front face",
+                mesh.node_id(path[0])
+            ),
         );
     }
     if problems.len() > before {
@@ -349,13 +352,21 @@ pub fn pair(
     }
     let fixed_normal = match master_normal {
         Some(_) if any_side => {
-            problems.push(format!("{field}.master_normal"), &entity, "master_normal is only for a master face with no soil element; this face's normal comes from its soil");
+            problems.push(
+                format!("{field}.master_normal"),
+                &entity,
+                "master_normal is only for a master face with no soil element; this face's normal comes from its soil",
+            );
             None
         }
         Some(n) => {
             let l = (n[0] * n[0] + n[1] * n[1]).sqrt();
             if !(l.is_finite() && l > 0.0) {
-                problems.push(format!("{field}.master_normal"), &entity, "master_normal must be a non-zero, finite vector");
+                problems.push(
+                    format!("{field}.master_normal"),
+                    &entity,
+                    "master_normal must be a non-zero, finite vector",
+                );
                 None
             } else {
                 Some([n[0] / l, n[1] / l])
@@ -382,13 +393,20 @@ pub fn pair(
             problems.push(
                 format!("{field}.slave[{k}]"),
                 &entity,
-                format!("slave node {} does not face the master face (it projects beyond its ends)", mesh.node_id(p.slave)),
+                format!(
+                    "slave node {} does not face the master face (it projects beyond its ends)",
+                    mesh.node_id(p.slave)
+                ),
             );
         } else if signed.abs() > tol {
             problems.push(
                 format!("{field}.slave[{k}]"),
                 &entity,
-                format!("slave node {} is {:.3e} off its master face: slave and master must start in contact", mesh.node_id(p.slave), signed.abs()),
+                format!(
+                    "slave node {} is {:.3e} off its master face: slave and master must start in contact",
+                    mesh.node_id(p.slave),
+                    signed.abs()
+                ),
             );
         }
     }

@@ -34,9 +34,7 @@ impl ShearLaw {
     pub fn shear_stiffness(&self) -> Option<f64> {
         match self {
             ShearLaw::Tie => None,
-            ShearLaw::Linear { shear_stiffness } | ShearLaw::Strength { shear_stiffness, .. } => {
-                Some(*shear_stiffness)
-            }
+            ShearLaw::Linear { shear_stiffness } | ShearLaw::Strength { shear_stiffness, .. } => Some(*shear_stiffness),
         }
     }
 }

@@ -78,7 +78,9 @@ pub fn make(backend: Backend) -> Result<Box<dyn LinearSolver>, SolveError> {
     match backend.resolve() {
         Backend::Dense => Ok(Box::new(dense_ref::DenseReference::default())),
         Backend::Faer => Ok(Box::new(faer_lu::FaerLu::default())),
-        Backend::Auto => Err(SolveError::Unavailable { backend: "auto".into(), hint: "no backend is compiled in".into() }),
+        Backend::Auto => {
+            Err(SolveError::Unavailable { backend: "auto".into(), hint: "no backend is compiled in".into() })
+        }
     }
 }
 

@@ -257,11 +257,7 @@ pub enum ShearLawSpec {
         softening_slip: f64,
     },
     /// Hyperbolic before the peak: initial slope Ks, asymptote τp.
-    Hyperbolic {
-        shear_stiffness: f64,
-        cohesion: f64,
-        friction_angle: f64,
-    },
+    Hyperbolic { shear_stiffness: f64, cohesion: f64, friction_angle: f64 },
 }
 
 /// One stage of the loading history. Loads and prescribed displacements listed here are added to

@@ -8,8 +8,8 @@ pub struct Problems {
 }
 
 impl Problems {
-    pub fn push(&mut self, field: impl Into<String>, entity: impl AsEntity, message: impl Into<String>) {
-        self.list.push(Problem { field: field.into(), entity: entity.as_entity(), message: message.into() });
+    pub fn push(&mut self, field: impl Into<String>, entity: impl IntoEntity, message: impl Into<String>) {
+        self.list.push(Problem { field: field.into(), entity: entity.into_entity(), message: message.into() });
     }
 
     pub fn len(&self) -> usize {
@@ -26,30 +26,30 @@ impl Problems {
 }
 
 /// Something that can name the entity of a problem (or no entity).
-pub trait AsEntity {
-    fn as_entity(self) -> Option<String>;
+pub trait IntoEntity {
+    fn into_entity(self) -> Option<String>;
 }
 
-impl AsEntity for &String {
-    fn as_entity(self) -> Option<String> {
+impl IntoEntity for &String {
+    fn into_entity(self) -> Option<String> {
         Some(self.clone())
     }
 }
 
-impl AsEntity for String {
-    fn as_entity(self) -> Option<String> {
+impl IntoEntity for String {
+    fn into_entity(self) -> Option<String> {
         Some(self)
     }
 }
 
-impl AsEntity for &str {
-    fn as_entity(self) -> Option<String> {
+impl IntoEntity for &str {
+    fn into_entity(self) -> Option<String> {
         Some(self.to_string())
     }
 }
 
-impl AsEntity for Option<String> {
-    fn as_entity(self) -> Option<String> {
+impl IntoEntity for Option<String> {
+    fn into_entity(self) -> Option<String> {
         self
     }
 }

@@ -144,7 +144,9 @@ pub(super) fn validate(source: &Path, file: &ModelFile) -> Result<Model, ModelEr
         }
         if p.len() == before {
             let (a, c) = (mesh.position(nodes[0]), mesh.position(nodes[1]));
-            if ((a[0] - c[0]).powi(2) + (a[1] - c[1]).powi(2)).sqrt() <= 1e-12 * mesh.characteristic_length().max(1e-300) {
+            if ((a[0] - c[0]).powi(2) + (a[1] - c[1]).powi(2)).sqrt()
+                <= 1e-12 * mesh.characteristic_length().max(1e-300)
+            {
                 p.push(format!("{field}.nodes"), &entity, "the bar has zero length");
             }
         }
@@ -165,7 +167,11 @@ pub(super) fn validate(source: &Path, file: &ModelFile) -> Result<Model, ModelEr
         for (k, id) in ids.iter().enumerate() {
             match mesh.node_index(*id) {
                 Some(i) => set.push(i),
-                None => p.push(format!("node_sets.{name}[{k}]"), format!("node set \"{name}\""), format!("node {id} does not exist")),
+                None => p.push(
+                    format!("node_sets.{name}[{k}]"),
+                    format!("node set \"{name}\""),
+                    format!("node {id} does not exist"),
+                ),
             }
         }
         node_sets.insert(name.clone(), set);
@@ -179,7 +185,8 @@ pub(super) fn validate(source: &Path, file: &ModelFile) -> Result<Model, ModelEr
             let field = format!("edge_sets.{name}[{k}]");
             let idx: Option<Vec<NodeIndex>> = edge.iter().map(|id| mesh.node_index(*id)).collect();
             let Some(idx) = idx else {
-                let missing: Vec<String> = edge.iter().filter(|id| mesh.node_index(**id).is_none()).map(|id| id.to_string()).collect();
+                let missing: Vec<String> =
+                    edge.iter().filter(|id| mesh.node_index(**id).is_none()).map(|id| id.to_string()).collect();
                 p.push(field, &entity, format!("node {} does not exist", missing.join(", ")));
                 continue;
             };
@@ -234,11 +241,19 @@ pub(super) fn validate(source: &Path, file: &ModelFile) -> Result<Model, ModelEr
         match (&spec.reinforcement, &spec.slave, &spec.master) {
             (Some(r), None, None) => {
                 let Some(&material) = reinf_index.get(r.material.as_str()) else {
-                    p.push(format!("{field}.reinforcement.material"), &entity, format!("no reinforcement material named \"{}\"", r.material));
+                    p.push(
+                        format!("{field}.reinforcement.material"),
+                        &entity,
+                        format!("no reinforcement material named \"{}\"", r.material),
+                    );
                     continue;
                 };
                 if spec.master_normal.is_some() {
-                    p.push(format!("{field}.master_normal"), &entity, "master_normal applies only to slave/master pairs");
+                    p.push(
+                        format!("{field}.master_normal"),
+                        &entity,
+                        "master_normal applies only to slave/master pairs",
+                    );
                 }
                 let Some(law) = law else { continue };
                 let sides_now = SideMap::new(&mesh);
@@ -265,7 +280,9 @@ pub(super) fn validate(source: &Path, file: &ModelFile) -> Result<Model, ModelEr
             (None, Some(slave), Some(master)) => {
                 let Some(law) = law else { continue };
                 let sides_now = SideMap::new(&mesh);
-                if let Some(i) = build::pair(&mesh, &sides_now, &spec.name, slave, master, spec.master_normal, law, &field, &mut p) {
+                if let Some(i) =
+                    build::pair(&mesh, &sides_now, &spec.name, slave, master, spec.master_normal, law, &field, &mut p)
+                {
                     interfaces.push(i);
                 }
             }
@@ -283,7 +300,13 @@ pub(super) fn validate(source: &Path, file: &ModelFile) -> Result<Model, ModelEr
     }
 
     // Targets of supports, loads and prescribed displacements.
-    let resolve = |node: Option<u64>, nodes: Option<&[u64]>, set: Option<&str>, field: &str, p: &mut Problems, with_twins: bool| -> Vec<NodeIndex> {
+    let resolve = |node: Option<u64>,
+                   nodes: Option<&[u64]>,
+                   set: Option<&str>,
+                   field: &str,
+                   p: &mut Problems,
+                   with_twins: bool|
+     -> Vec<NodeIndex> {
         let given = node.is_some() as u8 + nodes.is_some() as u8 + set.is_some() as u8;
         if given != 1 {
             p.push(field, target_label(node, nodes, set), "give exactly one of `node`, `nodes` or `set`");
@@ -337,7 +360,11 @@ pub(super) fn validate(source: &Path, file: &ModelFile) -> Result<Model, ModelEr
     }
 
     if file.stages.is_empty() {
-        p.push("stages", None, "the model has no stages: add at least one [[stages]] with loads or prescribed displacements");
+        p.push(
+            "stages",
+            None,
+            "the model has no stages: add at least one [[stages]] with loads or prescribed displacements",
+        );
     }
     let mut stages = Vec::new();
     let mut stage_names = HashSet::new();
@@ -368,8 +395,12 @@ pub(super) fn validate(source: &Path, file: &ModelFile) -> Result<Model, ModelEr
                         p.push(&lfield, &entity, "pressure and shear must be finite numbers");
                     }
                     match edge_sets.get(edge_set) {
-                        Some(sides) => loads.push(Load::EdgeTraction { sides: sides.clone(), pressure: *pressure, shear: *shear }),
-                        None => p.push(format!("{lfield}.edge_set"), &entity, format!("no edge set named \"{edge_set}\"")),
+                        Some(sides) => {
+                            loads.push(Load::EdgeTraction { sides: sides.clone(), pressure: *pressure, shear: *shear })
+                        }
+                        None => {
+                            p.push(format!("{lfield}.edge_set"), &entity, format!("no edge set named \"{edge_set}\""))
+                        }
                     }
                 }
                 LoadSpec::Point { node, nodes, set, fx, fy } => {
@@ -497,7 +528,8 @@ fn shear_law(spec: &ShearLawSpec, field: &str, entity: &str, p: &mut Problems) -
         }
     };
     match spec {
-        ShearLawSpec::Coulomb { cohesion, friction_angle, .. } | ShearLawSpec::Hyperbolic { cohesion, friction_angle, .. } => {
+        ShearLawSpec::Coulomb { cohesion, friction_angle, .. }
+        | ShearLawSpec::Hyperbolic { cohesion, friction_angle, .. } => {
             non_negative("cohesion", *cohesion);
             angle("friction_angle", *friction_angle, p);
         }
@@ -513,7 +545,11 @@ fn shear_law(spec: &ShearLawSpec, field: &str, entity: &str, p: &mut Problems) -
     if p.len() > before {
         return None;
     }
-    Some(if kind == "linear" { ShearLaw::Linear { shear_stiffness: ks } } else { ShearLaw::Strength { kind, shear_stiffness: ks } })
+    Some(if kind == "linear" {
+        ShearLaw::Linear { shear_stiffness: ks }
+    } else {
+        ShearLaw::Strength { kind, shear_stiffness: ks }
+    })
 }
 
 /// Every connected body (soil, bars and the interfaces that join them) must be held against both
@@ -562,7 +598,11 @@ fn check_free_bodies(
     }
     for (i, &u) in used.iter().enumerate() {
         if !u {
-            p.push("nodes", format!("node {}", mesh.node_id(i)), "the node belongs to no element or bar: remove it or connect it");
+            p.push(
+                "nodes",
+                format!("node {}", mesh.node_id(i)),
+                "the node belongs to no element or bar: remove it or connect it",
+            );
         }
     }
     let mut held: Vec<(NodeIndex, Direction)> = supports.to_vec();

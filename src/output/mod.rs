@@ -166,7 +166,9 @@ impl ResultWriter {
             &dir.join("displacements.csv"),
             &csv_bytes(
                 &h(&["node".into(), format!("x [{l}]"), format!("y [{l}]"), format!("ux [{l}]"), format!("uy [{l}]")]),
-                r.displacements.iter().map(|(id, x, d)| vec![id.to_string(), num(x[0]), num(x[1]), num(d[0]), num(d[1])]),
+                r.displacements
+                    .iter()
+                    .map(|(id, x, d)| vec![id.to_string(), num(x[0]), num(x[1]), num(d[0]), num(d[1])]),
             ),
         )?;
         let opt = |v: Option<f64>| v.map(num).unwrap_or_default();
@@ -180,9 +182,23 @@ impl ResultWriter {
         write_atomically(
             &dir.join("bar_forces.csv"),
             &csv_bytes(
-                &h(&["bar".into(), "node_a".into(), "node_b".into(), format!("x_mid [{l}]"), format!("y_mid [{l}]"), format!("T [{f}]")]),
+                &h(&[
+                    "bar".into(),
+                    "node_a".into(),
+                    "node_b".into(),
+                    format!("x_mid [{l}]"),
+                    format!("y_mid [{l}]"),
+                    format!("T [{f}]"),
+                ]),
                 r.bar_forces.iter().map(|b| {
-                    vec![b.bar.to_string(), b.nodes[0].to_string(), b.nodes[1].to_string(), num(b.midpoint[0]), num(b.midpoint[1]), num(b.axial_force)]
+                    vec![
+                        b.bar.to_string(),
+                        b.nodes[0].to_string(),
+                        b.nodes[1].to_string(),
+                        num(b.midpoint[0]),
+                        num(b.midpoint[1]),
+                        num(b.axial_force),
+                    ]
                 }),
             ),
         )?;

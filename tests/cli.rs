@@ -1,0 +1,118 @@
+//! The command line as a new user meets it: `run`, `check`, `schema` and `backends` on the
+//! annotated example, and the files a run leaves behind.
+//!
+//! Reference: docs/model-format.md (the output files and their unit-carrying headers) and
+//! shared/reference/closed-forms.md §5: in the annotated example's first stage, the oedometric
+//! vertical stress at the grid is q + γz = 20 + 19·0.2 = 23.8 kPa on both faces.
+
+use std::path::Path;
+use std::process::Command;
+
+fn geoslip() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_geoslip"))
+}
+
+fn example() -> std::path::PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/annotated-pullout.toml")
+}
+
+#[test]
+fn run_writes_every_result_file_with_units_in_the_headers() {
+    let out = tempfile::tempdir().unwrap();
+    for solver in ["auto", "dense", "faer"] {
+        let dir = out.path().join(solver);
+        let status = geoslip().args(["run", "--solver", solver, "--out"]).arg(&dir).arg(example()).status().unwrap();
+        assert!(status.success(), "geoslip run --solver {solver} failed");
+        let summary: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+        assert_eq!(summary["status"], "completed");
+        assert_eq!(summary["steps"].as_array().unwrap().len(), 5);
+        let expected_solver = if solver == "auto" { "faer" } else { solver };
+        assert_eq!(summary["solver"], expected_solver);
+        for step in summary["steps"].as_array().unwrap() {
+            for r in step["linear_residuals"].as_array().unwrap() {
+                assert!(r.as_f64().unwrap() < 1e-10);
+            }
+        }
+        let step = dir.join("stage-1-self-weight-and-surcharge/step-001");
+        let headers = [
+            ("displacements.csv", "node,x [m],y [m],ux [m],uy [m]"),
+            ("reactions.csv", "node,rx [kN/m],ry [kN/m]"),
+            ("bar_forces.csv", "bar,node_a,node_b,x_mid [m],y_mid [m],T [kN/m]"),
+            ("interface.csv", "interface,face,slave_node,x [m],y [m],master_a,master_b,xi [-],state,tributary [m],lambda [kN/m],sigma_n [kPa],tau [kPa],slip [m]"),
+            ("stresses.csv", "element,gauss_point,x [m],y [m],sxx [kPa],syy [kPa],sxy [kPa],szz [kPa]"),
+        ];
+        for (file, header) in headers {
+            let text = std::fs::read_to_string(step.join(file)).unwrap();
+            assert_eq!(text.lines().next().unwrap(), header, "{file}");
+        }
+        let interface = std::fs::read_to_string(step.join("interface.csv")).unwrap();
+        for line in interface.lines().skip(1) {
+            let sigma_n: f64 = line.split(',').nth(11).unwrap().parse().unwrap();
+            assert!((sigma_n - 23.8).abs() < 1e-9, "{line}");
+        }
+        let history = std::fs::read_to_string(dir.join("history.csv")).unwrap();
+        assert_eq!(history.lines().count(), 1 + 5);
+        assert!(history.lines().next().unwrap().ends_with("displacement [m],reaction [kN/m]"));
+        // no temporary files left behind
+        assert!(walk(&dir).iter().all(|p| !p.file_name().unwrap().to_string_lossy().starts_with(".partial-")));
+    }
+}
+
+fn walk(dir: &Path) -> Vec<std::path::PathBuf> {
+    let mut out = Vec::new();
+    for e in std::fs::read_dir(dir).unwrap() {
+        let p = e.unwrap().path();
+        if p.is_dir() {
+            out.extend(walk(&p));
+        } else {
+            out.push(p);
+        }
+    }
+    out
+}
+
+#[test]
+fn check_accepts_the_example_and_lists_every_problem_of_a_broken_model() {
+    let ok = geoslip().arg("check").arg(example()).output().unwrap();
+    assert!(ok.status.success());
+    assert!(String::from_utf8_lossy(&ok.stdout).contains("ok"));
+    let bad = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/bad-models/several-problems.toml");
+    let out = geoslip().arg("check").arg(&bad).output().unwrap();
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("5 problems"), "{err}");
+    assert!(err.lines().filter(|l| l.contains("several-problems.toml:")).count() >= 6, "{err}");
+}
+
+#[test]
+fn a_refused_run_leaves_a_failed_summary() {
+    let out = tempfile::tempdir().unwrap();
+    let bad = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/bad-models/run-coulomb-law-refused.toml");
+    let status = geoslip().args(["run", "--out"]).arg(out.path()).arg(&bad).status().unwrap();
+    assert!(!status.success());
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.path().join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["status"], "failed");
+    assert!(summary["error"].as_str().unwrap().contains("coulomb"));
+}
+
+#[test]
+fn schema_and_backends() {
+    let out = geoslip().arg("schema").output().unwrap();
+    let schema: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    for key in ["units", "materials", "nodes", "elements", "interfaces", "stages"] {
+        assert!(schema["properties"][key].is_object(), "schema lacks {key}");
+    }
+    let out = geoslip().arg("backends").output().unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("faer") && text.contains("dense"));
+}
+
+#[test]
+fn the_documentation_shows_the_annotated_example_as_it_is() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let doc = std::fs::read_to_string(root.join("docs/model-format.md")).unwrap();
+    let example = std::fs::read_to_string(example()).unwrap();
+    assert!(doc.contains(&example), "docs/model-format.md must include examples/annotated-pullout.toml verbatim");
+}
