@@ -73,6 +73,8 @@ pub enum Error {
     Parse { path: PathBuf, message: String },
     #[error(transparent)]
     Model(#[from] ModelError),
+    #[error(transparent)]
+    Backend(#[from] SolveError),
     #[error("{}: stage \"{stage}\", step {step}: {source}", .file.display())]
     Solve { file: PathBuf, stage: String, step: usize, source: SolveError },
     #[error(

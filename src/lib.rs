@@ -7,6 +7,7 @@
 //!
 //! The driver reads top to bottom: [`model::Model::load`] → [`analysis::run`] → [`output`].
 
+#![deny(unsafe_code)]
 // `!(x > tol)` is used on purpose throughout: it is true for NaN, which must count as a failure.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 // Dense loops over CSC columns read better with the column index.

@@ -16,7 +16,7 @@ struct Cli {
 }
 
 fn version() -> &'static str {
-    concat!(env!("CARGO_PKG_VERSION"), " (solver backends: faer, dense)")
+    concat!(env!("CARGO_PKG_VERSION"), " (solver backends: ", env!("GEOSLIP_BACKENDS"), ")")
 }
 
 #[derive(Subcommand)]
@@ -86,6 +86,7 @@ fn main() -> ExitCode {
 
 fn run(path: &std::path::Path, solver: Backend, out: Option<PathBuf>) -> Result<(), geoslip::Error> {
     let started = std::time::Instant::now();
+    geoslip::linsol::check_available(solver)?;
     let model = Model::load(path)?;
     let out = out.unwrap_or_else(|| {
         PathBuf::from("results").join(path.file_stem().map(|s| s.to_os_string()).unwrap_or_else(|| "model".into()))

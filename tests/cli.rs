@@ -19,7 +19,11 @@ fn example() -> std::path::PathBuf {
 #[test]
 fn run_writes_every_result_file_with_units_in_the_headers() {
     let out = tempfile::tempdir().unwrap();
-    for solver in ["auto", "dense", "faer"] {
+    let listed = geoslip().arg("backends").output().unwrap();
+    let backends: Vec<String> = String::from_utf8_lossy(&listed.stdout).lines().map(str::to_string).collect();
+    let mut solvers = vec!["auto".to_string()];
+    solvers.extend(backends.iter().cloned());
+    for solver in solvers.iter().map(String::as_str) {
         let dir = out.path().join(solver);
         let status = geoslip().args(["run", "--solver", solver, "--out"]).arg(&dir).arg(example()).status().unwrap();
         assert!(status.success(), "geoslip run --solver {solver} failed");
@@ -27,7 +31,8 @@ fn run_writes_every_result_file_with_units_in_the_headers() {
             serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
         assert_eq!(summary["status"], "completed");
         assert_eq!(summary["steps"].as_array().unwrap().len(), 5);
-        let expected_solver = if solver == "auto" { "faer" } else { solver };
+        // auto picks the first (best) backend of the build
+        let expected_solver = if solver == "auto" { backends[0].as_str() } else { solver };
         assert_eq!(summary["solver"], expected_solver);
         for step in summary["steps"].as_array().unwrap() {
             for r in step["linear_residuals"].as_array().unwrap() {
@@ -115,4 +120,19 @@ fn the_documentation_shows_the_annotated_example_as_it_is() {
     let doc = std::fs::read_to_string(root.join("docs/model-format.md")).unwrap();
     let example = std::fs::read_to_string(example()).unwrap();
     assert!(doc.contains(&example), "docs/model-format.md must include examples/annotated-pullout.toml verbatim");
+}
+
+#[test]
+fn a_backend_that_is_not_built_in_fails_with_how_to_get_it() {
+    let listed = geoslip().arg("backends").output().unwrap();
+    let backends = String::from_utf8_lossy(&listed.stdout).to_string();
+    for (backend, package) in [("mumps", "libmumps-seq-dev"), ("umfpack", "libsuitesparse-dev")] {
+        if backends.lines().any(|l| l == backend) {
+            continue;
+        }
+        let out = geoslip().args(["run", "--solver", backend]).arg(example()).output().unwrap();
+        assert!(!out.status.success());
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains("not available in this build") && err.contains(package), "{err}");
+    }
 }

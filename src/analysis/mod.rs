@@ -344,7 +344,9 @@ fn equilibrium(
             };
         }
         let triplets = system::assemble(elements, &rows, &state.interfaces, dofs, scale);
-        let (x, lin_res) = match system.solve(dofs.size(), &triplets, &rhs) {
+        let active =
+            (0..dofs.multipliers.len()).filter(|&k| system::multiplier_is_active(&state.interfaces, dofs, k)).count();
+        let (x, lin_res) = match system.solve(dofs.size(), &triplets, &rhs, active) {
             Ok(v) => v,
             Err(Failure::Singular { equations }) => {
                 return Err(IncrementError::Solve(SolveError::Singular {
@@ -426,24 +428,31 @@ fn diagnose_singular(
     equations: Vec<usize>,
 ) -> Vec<String> {
     let n = dofs.size();
-    let describe = |e: usize| dofs.describe(e, &model.mesh, interfaces);
-    if !equations.is_empty() {
-        return cap(equations.into_iter().map(describe).collect());
-    }
-    // Unknowns with no stiffness and no constraint at all.
     let mut column_norm = vec![0.0f64; n];
     for (&j, &v) in triplets.cols.iter().zip(&triplets.values) {
         column_norm[j] += v.abs();
     }
+    let describe = |e: usize| {
+        let name = dofs.describe(e, &model.mesh, interfaces);
+        if column_norm.get(e).is_some_and(|&c| c == 0.0) {
+            format!("{name} has no stiffness and no constraint")
+        } else {
+            format!("{name} is not held (a null pivot: a mechanism runs through it)")
+        }
+    };
+    if !equations.is_empty() {
+        return cap(equations.into_iter().map(describe).collect());
+    }
+    // Unknowns with no stiffness and no constraint at all.
     let empty: Vec<String> = (0..n).filter(|&j| column_norm[j] == 0.0).map(describe).collect();
     if !empty.is_empty() {
-        return cap(empty.into_iter().map(|s| format!("{s} has no stiffness and no constraint")).collect());
+        return cap(empty);
     }
     // Ask the reference solver, whose complete pivoting isolates the undetermined unknowns.
     if n <= dense_ref::SIZE_LIMIT {
         let matrix = crate::assembly::PatternCache::default().assemble(n, triplets).0;
         let mut dense = dense_ref::DenseReference::default();
-        if dense.analyse(&matrix.pattern).is_ok() {
+        if dense.analyse(&matrix).is_ok() {
             if let Err(Failure::Singular { equations }) = dense.factorize(&matrix) {
                 return cap(equations.into_iter().map(describe).collect());
             }

@@ -191,6 +191,11 @@ pub struct SolverStats {
     pub factorize_seconds: f64,
     pub solve_seconds: f64,
     pub max_relative_residual: f64,
+    /// Entries in the factors of the last factorisation, where the backend reports them.
+    pub factor_entries: Option<u64>,
+    /// Diagnostics that do not stop a run (for example an inertia that differs from the number of
+    /// active multipliers).
+    pub warnings: Vec<String>,
 }
 
 /// A solver backend with the bookkeeping that lets it skip work: a new analysis only for a new
@@ -205,7 +210,7 @@ pub struct LinearSystem {
 impl LinearSystem {
     pub fn new(backend: Backend) -> Result<Self, SolveError> {
         Ok(LinearSystem {
-            solver: linsol::make(backend)?,
+            solver: linsol::make(backend, true)?,
             patterns: PatternCache::default(),
             factorized: None,
             stats: SolverStats::default(),
@@ -216,12 +221,19 @@ impl LinearSystem {
         self.solver.backend()
     }
 
-    /// Solve A x = b for the assembled triplets. Returns x and the relative residual.
-    pub fn solve(&mut self, n: usize, triplets: &Triplets, rhs: &[f64]) -> Result<(Vec<f64>, f64), Failure> {
+    /// Solve A x = b for the assembled triplets, of which `active_multipliers` rows hold a
+    /// constraint (zero diagonal). Returns x and the relative residual.
+    pub fn solve(
+        &mut self,
+        n: usize,
+        triplets: &Triplets,
+        rhs: &[f64],
+        active_multipliers: usize,
+    ) -> Result<(Vec<f64>, f64), Failure> {
         let (matrix, new_pattern) = self.patterns.assemble(n, triplets);
         if new_pattern {
             let t = Instant::now();
-            self.solver.analyse(&matrix.pattern)?;
+            self.solver.analyse(&matrix)?;
             self.stats.analyses += 1;
             self.stats.analyse_seconds += t.elapsed().as_secs_f64();
             self.factorized = None;
@@ -231,6 +243,22 @@ impl LinearSystem {
             let t = Instant::now();
             self.solver.factorize(&matrix)?;
             self.stats.factorizations += 1;
+            self.stats.factor_entries = self.solver.factor_entries();
+            // Inertia check (DESIGN §2): the negative pivots equal the active multipliers when Kc has
+            // full row rank, K is positive definite on its null space, supports are eliminated and no
+            // tangent is negative. A mismatch is worth knowing, not an error.
+            if let Some(negative) = self.solver.negative_pivots() {
+                if negative != active_multipliers {
+                    let w = format!(
+                        "{} reports {negative} negative pivots for {active_multipliers} active multipliers: \
+                         some constraint rows may be dependent, or K is not positive definite on their null space",
+                        self.solver.backend().name()
+                    );
+                    if !self.stats.warnings.contains(&w) {
+                        self.stats.warnings.push(w);
+                    }
+                }
+            }
             self.stats.factorize_seconds += t.elapsed().as_secs_f64();
             self.factorized = Some(matrix.clone());
         }

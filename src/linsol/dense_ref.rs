@@ -6,9 +6,8 @@
 //! remaining unknowns are not determined: they are reported as singular.
 
 use super::{Backend, Failure, LinearSolver};
-use crate::assembly::{CscMatrix, CscPattern};
+use crate::assembly::CscMatrix;
 use crate::error::SolveError;
-use std::sync::Arc;
 
 /// Largest system the reference solver accepts (O(n³) work, n² memory).
 pub const SIZE_LIMIT: usize = 3000;
@@ -28,7 +27,8 @@ impl LinearSolver for DenseReference {
         Backend::Dense
     }
 
-    fn analyse(&mut self, pattern: &Arc<CscPattern>) -> Result<(), Failure> {
+    fn analyse(&mut self, matrix: &CscMatrix) -> Result<(), Failure> {
+        let pattern = &matrix.pattern;
         if pattern.n() > SIZE_LIMIT {
             return Err(SolveError::TooLarge { size: pattern.n(), limit: SIZE_LIMIT }.into());
         }
@@ -149,7 +149,7 @@ mod tests {
         // so u0 = u1 = λ = 1/2.
         let a = matrix(&[&[2.0, -1.0, 1.0], &[-1.0, 2.0, -1.0], &[1.0, -1.0, 0.0]]);
         let mut s = DenseReference::default();
-        s.analyse(&a.pattern).unwrap();
+        s.analyse(&a).unwrap();
         s.factorize(&a).unwrap();
         let x = s.solve(&[1.0, 0.0, 0.0]).unwrap();
         for (v, e) in x.iter().zip([0.5, 0.5, 0.5]) {
@@ -162,7 +162,7 @@ mod tests {
         // unknown 1 has no stiffness and no constraint
         let a = matrix(&[&[2.0, 0.0, 0.0], &[0.0, 0.0, 0.0], &[0.0, 0.0, 3.0]]);
         let mut s = DenseReference::default();
-        s.analyse(&a.pattern).unwrap();
+        s.analyse(&a).unwrap();
         match s.factorize(&a) {
             Err(Failure::Singular { equations }) => assert_eq!(equations, vec![1]),
             other => panic!("expected singular, got {other:?}"),

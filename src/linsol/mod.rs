@@ -5,10 +5,11 @@
 
 pub mod dense_ref;
 pub mod faer_lu;
+#[allow(unsafe_code)]
+pub mod native;
 
-use crate::assembly::{CscMatrix, CscPattern};
+use crate::assembly::CscMatrix;
 use crate::error::SolveError;
-use std::sync::Arc;
 
 /// Backends that can be asked for on the command line.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
@@ -20,12 +21,24 @@ pub enum Backend {
     Dense,
     /// faer's sparse LU (pure Rust).
     Faer,
+    /// MUMPS, sequential: symmetric indefinite LDLᵀ (SYM=2) for symmetric systems.
+    Mumps,
+    /// UMFPACK (SuiteSparse): unsymmetric LU.
+    Umfpack,
 }
 
 impl Backend {
     /// Backends compiled into this build, best first.
     pub fn available() -> Vec<Backend> {
-        vec![Backend::Faer, Backend::Dense]
+        let mut list = Vec::new();
+        if cfg!(geoslip_mumps) {
+            list.push(Backend::Mumps);
+        }
+        if cfg!(geoslip_umfpack) {
+            list.push(Backend::Umfpack);
+        }
+        list.extend([Backend::Faer, Backend::Dense]);
+        list
     }
 
     pub fn name(self) -> &'static str {
@@ -33,6 +46,8 @@ impl Backend {
             Backend::Auto => "auto",
             Backend::Dense => "dense",
             Backend::Faer => "faer",
+            Backend::Mumps => "mumps",
+            Backend::Umfpack => "umfpack",
         }
     }
 
@@ -62,25 +77,74 @@ impl From<SolveError> for Failure {
 /// One linear solver backend.
 pub trait LinearSolver {
     fn backend(&self) -> Backend;
-    /// Symbolic analysis of a pattern (ordering, fill). Called again only when the pattern changes.
-    fn analyse(&mut self, pattern: &Arc<CscPattern>) -> Result<(), Failure>;
+    /// Symbolic analysis of a pattern (ordering, fill), given the first values on it. Called again only
+    /// when the pattern changes.
+    fn analyse(&mut self, matrix: &CscMatrix) -> Result<(), Failure>;
     /// Numeric factorisation of values on the analysed pattern.
     fn factorize(&mut self, matrix: &CscMatrix) -> Result<(), Failure>;
     /// Solve with the current factorisation.
     fn solve(&mut self, rhs: &[f64]) -> Result<Vec<f64>, Failure>;
+    /// Negative pivots of the last symmetric factorisation, where the backend reports its inertia.
+    fn negative_pivots(&self) -> Option<usize> {
+        None
+    }
+    /// Entries in the factors of the last factorisation, where the backend reports them.
+    fn factor_entries(&self) -> Option<u64> {
+        None
+    }
 }
 
-/// Make a solver for a backend.
+/// Make a solver for a backend. `symmetric` says whether the matrices it will see are symmetric
+/// (MUMPS then uses SYM=2 on the lower triangle; otherwise SYM=0).
 ///
 /// # Errors
-/// [`SolveError::Unavailable`] for a backend that is not compiled in.
-pub fn make(backend: Backend) -> Result<Box<dyn LinearSolver>, SolveError> {
+/// [`SolveError::Unavailable`] for a backend that is not compiled into this build, saying how to get
+/// it.
+pub fn make(backend: Backend, symmetric: bool) -> Result<Box<dyn LinearSolver>, SolveError> {
+    let _ = symmetric;
     match backend.resolve() {
         Backend::Dense => Ok(Box::new(dense_ref::DenseReference::default())),
         Backend::Faer => Ok(Box::new(faer_lu::FaerLu::default())),
-        Backend::Auto => {
-            Err(SolveError::Unavailable { backend: "auto".into(), hint: "no backend is compiled in".into() })
-        }
+        #[cfg(geoslip_mumps)]
+        Backend::Mumps => Ok(Box::new(native::mumps::Mumps::new(symmetric, native::mumps::Ordering::Scotch)?)),
+        #[cfg(geoslip_umfpack)]
+        Backend::Umfpack => Ok(Box::new(native::umfpack::Umfpack::default())),
+        other => Err(unavailable(other)),
+    }
+}
+
+/// Whether a backend is compiled into this build.
+///
+/// # Errors
+/// [`SolveError::Unavailable`], saying how to get it.
+pub fn check_available(backend: Backend) -> Result<(), SolveError> {
+    if Backend::available().contains(&backend.resolve()) {
+        Ok(())
+    } else {
+        Err(unavailable(backend))
+    }
+}
+
+fn unavailable(backend: Backend) -> SolveError {
+    SolveError::Unavailable {
+        backend: backend.name().into(),
+        hint: format!(
+            "this build has {}. To get {}, install {} (as root: apt-get install -y {} libclang-dev) and rebuild \
+             geoslip (cargo build --release); `geoslip backends` lists the backends a build has",
+            Backend::available().iter().map(|b| b.name()).collect::<Vec<_>>().join(", "),
+            backend.name(),
+            package(backend),
+            package(backend),
+        ),
+    }
+}
+
+/// The Debian package that provides a native backend.
+fn package(backend: Backend) -> &'static str {
+    match backend {
+        Backend::Mumps => "libmumps-seq-dev",
+        Backend::Umfpack => "libsuitesparse-dev",
+        _ => "nothing",
     }
 }
 

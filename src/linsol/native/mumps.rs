@@ -1,0 +1,307 @@
+//! MUMPS (sequential build, Debian's `libmumps-seq-dev`), symmetric indefinite (SYM=2, lower
+//! triangle) or unsymmetric (SYM=0).
+//!
+//! Settings that were measured to matter (shared/DESIGN.md §2): PAR=1; 1-based indices and a 64-bit
+//! `nnz`; JOB −1 once, JOB 1 once per pattern, JOB 2 for each new set of values, JOB 3 for each
+//! right-hand side; ICNTL(7) set explicitly (3 = Scotch), ICNTL(8)=7, ICNTL(13)=1, ICNTL(24)=1
+//! (null-pivot detection). With ICNTL(24)=1 a singular matrix is reported as *success* with
+//! INFOG(28) > 0 null pivots, listed in PIVNUL_LIST: that is turned into a singular-model error. On
+//! INFOG(1) = −8 or −9 ICNTL(14) is doubled and only the factorisation is redone, a bounded number of
+//! times.
+
+use crate::assembly::CscMatrix;
+use crate::error::SolveError;
+use crate::linsol::native::mumps_message;
+use crate::linsol::{Backend, Failure, LinearSolver};
+use geoslip_sys::mumps as ffi;
+use std::ffi::CStr;
+
+/// Fortran communicator value that tells MUMPS to use MPI_COMM_WORLD (the sequential stub's only
+/// communicator).
+const USE_COMM_WORLD: i32 = -987654;
+/// How many times a factorisation is retried with a doubled ICNTL(14).
+const WORKSPACE_RETRIES: usize = 6;
+
+/// Fill-reducing ordering, ICNTL(7).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Ordering {
+    /// 3: Scotch (Debian's sequential build has it).
+    Scotch = 3,
+    /// 4: PORD (both Debian builds have it).
+    Pord = 4,
+    /// 0: approximate minimum degree, built into MUMPS.
+    Amd = 0,
+}
+
+/// What the last factorisation reported.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct FactorInfo {
+    /// INFOG(12): negative pivots (SYM=2).
+    pub negative_pivots: i64,
+    /// INFOG(29): entries in the factors.
+    pub factor_entries: i64,
+    /// INFOG(22): memory used by the factorisation, MB.
+    pub memory_mb: i64,
+    /// ICNTL(14) that the factorisation finally ran with.
+    pub workspace_percent: i32,
+    /// How many times the factorisation was retried with more workspace.
+    pub workspace_retries: usize,
+}
+
+/// One MUMPS instance: the handle, and the index and value arrays it points into.
+pub struct Mumps {
+    id: Box<ffi::DMUMPS_STRUC_C>,
+    symmetric: bool,
+    ordering: Ordering,
+    n: usize,
+    /// CSC entry positions passed to MUMPS (all of them, or the lower triangle for SYM=2).
+    positions: Vec<usize>,
+    irn: Vec<i32>,
+    jcn: Vec<i32>,
+    a: Vec<f64>,
+    analysed: bool,
+    factorized: bool,
+    /// ICNTL(14) to use, possibly raised by earlier retries.
+    workspace_percent: i32,
+    pub info: FactorInfo,
+}
+
+fn icntl(id: &mut ffi::DMUMPS_STRUC_C, i: usize, value: i32) {
+    id.icntl[i - 1] = value;
+}
+
+fn infog(id: &ffi::DMUMPS_STRUC_C, i: usize) -> i32 {
+    id.infog[i - 1]
+}
+
+fn backend_error(message: String) -> Failure {
+    Failure::Other(SolveError::Backend { backend: "mumps", message })
+}
+
+impl Mumps {
+    /// Start an instance (JOB = −1) and check that the library is the version the build's header
+    /// describes.
+    ///
+    /// # Errors
+    /// A backend error with MUMPS's message, or a version mismatch.
+    pub fn new(symmetric: bool, ordering: Ordering) -> Result<Mumps, SolveError> {
+        // SAFETY: DMUMPS_STRUC_C is a plain C struct of integers, floats, arrays and pointers, for
+        // which all-zero is a valid value; MUMPS initialises it in JOB = −1.
+        let mut id: Box<ffi::DMUMPS_STRUC_C> = Box::new(unsafe { std::mem::zeroed() });
+        id.comm_fortran = USE_COMM_WORLD;
+        id.par = 1;
+        id.sym = if symmetric { 2 } else { 0 };
+        id.job = -1;
+        call(&mut id);
+        let code = infog(&id, 1);
+        if code < 0 {
+            let message = mumps_message(code, infog(&id, 2) as i64);
+            // JOB = −1 failed: there is nothing to terminate.
+            std::mem::forget(id);
+            return Err(SolveError::Backend { backend: "mumps", message: format!("initialisation: {message}") });
+        }
+        let mumps = Mumps {
+            id,
+            symmetric,
+            ordering,
+            n: 0,
+            positions: Vec::new(),
+            irn: Vec::new(),
+            jcn: Vec::new(),
+            a: Vec::new(),
+            analysed: false,
+            factorized: false,
+            workspace_percent: 20,
+            info: FactorInfo::default(),
+        };
+        let built = CStr::from_bytes_until_nul(ffi::MUMPS_VERSION)
+            .map(|c| c.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let running = mumps.version();
+        if running.trim() != built.trim() {
+            return Err(SolveError::Backend {
+                backend: "mumps",
+                message: format!(
+                    "the MUMPS library is version {running} but geoslip was built against the {built} header; rebuild geoslip (cargo build --release)"
+                ),
+            });
+        }
+        Ok(mumps)
+    }
+
+    /// The library's version string (`version_number`).
+    pub fn version(&self) -> String {
+        let bytes: Vec<u8> = self.id.version_number.iter().take_while(|&&c| c != 0).map(|&c| c as u8).collect();
+        String::from_utf8_lossy(&bytes).into_owned()
+    }
+
+    /// Force ICNTL(14) (percentage of workspace increase), to exercise the retry path.
+    pub fn set_workspace_percent(&mut self, percent: i32) {
+        self.workspace_percent = percent;
+    }
+
+    fn set_controls(&mut self) {
+        let id = &mut *self.id;
+        icntl(id, 1, -1); // error messages: off (geoslip reports the codes)
+        icntl(id, 2, -1); // diagnostics: off
+        icntl(id, 3, -1); // global information: off
+        icntl(id, 4, 0); // print level
+        icntl(id, 7, self.ordering as i32);
+        icntl(id, 8, 7); // scaling recomputed at each factorisation
+        icntl(id, 13, 1);
+        icntl(id, 14, self.workspace_percent);
+        icntl(id, 24, 1); // null-pivot detection
+    }
+}
+
+/// The one place that enters MUMPS: under the global lock.
+fn call(id: &mut ffi::DMUMPS_STRUC_C) {
+    let _guard = geoslip_sys::MUMPS_LOCK.lock().unwrap_or_else(|p| p.into_inner());
+    // SAFETY: `id` is a live instance (JOB = −1 was called first, or this is that call); every
+    // pointer in it was set by `Mumps` to a buffer it owns and keeps alive and unmoved until the next
+    // call replaces it.
+    unsafe { ffi::dmumps_c(id) };
+}
+
+impl LinearSolver for Mumps {
+    fn backend(&self) -> Backend {
+        Backend::Mumps
+    }
+
+    fn analyse(&mut self, matrix: &CscMatrix) -> Result<(), Failure> {
+        let p = &matrix.pattern;
+        let n = p.n();
+        if n > i32::MAX as usize {
+            return Err(backend_error(format!("{n} unknowns exceed MUMPS's 32-bit indices")));
+        }
+        self.positions.clear();
+        self.irn.clear();
+        self.jcn.clear();
+        for j in 0..n {
+            for k in p.col_ptr()[j]..p.col_ptr()[j + 1] {
+                let i = p.row_idx()[k];
+                if !self.symmetric || i >= j {
+                    self.positions.push(k);
+                    self.irn.push(i as i32 + 1);
+                    self.jcn.push(j as i32 + 1);
+                }
+            }
+        }
+        self.a = self.positions.iter().map(|&k| matrix.values[k]).collect();
+        self.n = n;
+        self.set_controls();
+        let id = &mut *self.id;
+        id.n = n as i32;
+        id.nnz = self.irn.len() as i64;
+        id.irn = self.irn.as_mut_ptr();
+        id.jcn = self.jcn.as_mut_ptr();
+        id.a = self.a.as_mut_ptr();
+        id.job = 1;
+        call(id);
+        let code = infog(id, 1);
+        if code < 0 {
+            self.analysed = false;
+            return Err(backend_error(format!("analysis: {}", mumps_message(code, infog(id, 2) as i64))));
+        }
+        self.analysed = true;
+        self.factorized = false;
+        Ok(())
+    }
+
+    fn factorize(&mut self, matrix: &CscMatrix) -> Result<(), Failure> {
+        if !self.analysed {
+            return Err(backend_error("factorize called before analyse".into()));
+        }
+        for (slot, &k) in self.a.iter_mut().zip(&self.positions) {
+            *slot = matrix.values[k];
+        }
+        let mut retries = 0;
+        loop {
+            self.set_controls();
+            let id = &mut *self.id;
+            id.irn = self.irn.as_mut_ptr();
+            id.jcn = self.jcn.as_mut_ptr();
+            id.a = self.a.as_mut_ptr();
+            id.job = 2;
+            call(id);
+            let code = infog(id, 1);
+            if (code == -8 || code == -9) && retries < WORKSPACE_RETRIES {
+                // Not enough workspace: double ICNTL(14) and redo the factorisation only.
+                self.workspace_percent = self.workspace_percent.max(1).saturating_mul(2);
+                retries += 1;
+                continue;
+            }
+            self.factorized = false;
+            if code < 0 {
+                return Err(backend_error(format!(
+                    "factorisation: {}{}",
+                    mumps_message(code, infog(id, 2) as i64),
+                    if retries > 0 { format!(" after {retries} workspace increases") } else { String::new() }
+                )));
+            }
+            let null_pivots = infog(id, 28);
+            if null_pivots > 0 {
+                // SAFETY: with ICNTL(24) = 1, MUMPS allocates PIVNUL_LIST with INFOG(28) entries.
+                let list = unsafe { std::slice::from_raw_parts(id.pivnul_list, null_pivots as usize) };
+                let equations = list.iter().map(|&i| (i - 1) as usize).collect();
+                return Err(Failure::Singular { equations });
+            }
+            self.info = FactorInfo {
+                negative_pivots: infog(id, 12) as i64,
+                // INFOG(29) < 0 counts millions of entries
+                factor_entries: match infog(id, 29) as i64 {
+                    v if v < 0 => -v * 1_000_000,
+                    v => v,
+                },
+                memory_mb: infog(id, 22) as i64,
+                workspace_percent: self.workspace_percent,
+                workspace_retries: retries,
+            };
+            self.factorized = true;
+            return Ok(());
+        }
+    }
+
+    fn solve(&mut self, rhs: &[f64]) -> Result<Vec<f64>, Failure> {
+        if !self.factorized || rhs.len() != self.n {
+            return Err(backend_error("solve called without a factorisation of this size".into()));
+        }
+        let mut x = rhs.to_vec();
+        let id = &mut *self.id;
+        id.rhs = x.as_mut_ptr();
+        id.nrhs = 1;
+        id.lrhs = self.n as i32;
+        id.job = 3;
+        call(id);
+        id.rhs = std::ptr::null_mut();
+        let code = infog(id, 1);
+        if code < 0 {
+            return Err(backend_error(format!("solution: {}", mumps_message(code, infog(id, 2) as i64))));
+        }
+        Ok(x)
+    }
+
+    fn negative_pivots(&self) -> Option<usize> {
+        (self.symmetric && self.factorized).then_some(self.info.negative_pivots.max(0) as usize)
+    }
+
+    fn factor_entries(&self) -> Option<u64> {
+        self.factorized.then_some(self.info.factor_entries.max(0) as u64)
+    }
+}
+
+impl Drop for Mumps {
+    fn drop(&mut self) {
+        let id = &mut *self.id;
+        // Pointers must be valid (or null) for JOB = −2.
+        id.irn = self.irn.as_mut_ptr();
+        id.jcn = self.jcn.as_mut_ptr();
+        id.a = self.a.as_mut_ptr();
+        id.rhs = std::ptr::null_mut();
+        id.job = -2;
+        call(id);
+    }
+}
+
+// SAFETY: the handle is only used through `&mut self` and every MUMPS call holds the global lock.
+unsafe impl Send for Mumps {}
