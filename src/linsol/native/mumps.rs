@@ -305,3 +305,84 @@ impl Drop for Mumps {
 
 // SAFETY: the handle is only used through `&mut self` and every MUMPS call holds the global lock.
 unsafe impl Send for Mumps {}
+
+#[cfg(test)]
+mod tests {
+    //! MUMPS's own error paths: the memory-retry path (forced with a tiny ICNTL(14)) and the
+    //! null-pivot list of a singular matrix.
+    use super::*;
+    use crate::assembly::{PatternCache, Triplets};
+
+    /// A chain of springs whose every node is tied to the next by a multiplier: many zero diagonal
+    /// entries, so pivots are delayed and the workspace estimate is tight.
+    fn saddle_chain(n_u: usize, multiplier_diagonal: f64) -> (CscMatrix, Vec<f64>) {
+        let mut t = Triplets::default();
+        for i in 0..n_u {
+            t.push(i, i, 2.0 + (i % 3) as f64);
+            if i + 1 < n_u {
+                t.push(i, i + 1, -1.0);
+                t.push(i + 1, i, -1.0);
+            }
+        }
+        let m = n_u / 2;
+        for r in 0..m {
+            let (a, b) = (2 * r, (2 * r + 7) % n_u);
+            t.push(n_u + r, a, 1.0);
+            t.push(a, n_u + r, 1.0);
+            t.push(n_u + r, b, -0.5);
+            t.push(b, n_u + r, -0.5);
+            t.push(n_u + r, n_u + r, multiplier_diagonal);
+        }
+        let n = n_u + m;
+        let a = PatternCache::default().assemble(n, &t).0;
+        (a, (0..n).map(|i| (i % 5) as f64 - 2.0).collect())
+    }
+
+    #[test]
+    fn a_tiny_workspace_is_retried_with_a_doubled_icntl14() {
+        // With ICNTL(14) = 0 (no margin over the analysis estimate), the delayed pivots of this
+        // symmetric indefinite system overflow the workspace (INFOG(1) = −8 or −9).
+        let (a, b) = saddle_chain(3000, 0.0);
+        let mut reference = Mumps::new(true, Ordering::Scotch).unwrap();
+        reference.analyse(&a).unwrap();
+        reference.factorize(&a).unwrap();
+        let x_ref = reference.solve(&b).unwrap();
+
+        let mut mumps = Mumps::new(true, Ordering::Scotch).unwrap();
+        mumps.set_workspace_percent(0);
+        mumps.analyse(&a).unwrap();
+        mumps.factorize(&a).unwrap();
+        assert!(mumps.info.workspace_retries > 0, "ICNTL(14) = 0 did not run out of workspace");
+        assert!(mumps.info.workspace_percent > 0);
+        let x = mumps.solve(&b).unwrap();
+        for (p, q) in x.iter().zip(&x_ref) {
+            assert!((p - q).abs() < 1e-10 * (1.0 + q.abs()));
+        }
+    }
+
+    #[test]
+    fn a_singular_matrix_lists_its_null_pivots() {
+        // unknown 2 has no stiffness and no constraint
+        let mut t = Triplets::default();
+        t.push(0, 0, 2.0);
+        t.push(1, 1, 3.0);
+        t.push(2, 2, 0.0);
+        t.push(0, 1, -1.0);
+        t.push(1, 0, -1.0);
+        let a = PatternCache::default().assemble(3, &t).0;
+        for symmetric in [true, false] {
+            let mut mumps = Mumps::new(symmetric, Ordering::Pord).unwrap();
+            mumps.analyse(&a).unwrap();
+            match mumps.factorize(&a) {
+                Err(Failure::Singular { equations }) => assert_eq!(equations, vec![2]),
+                other => panic!("expected a null pivot at unknown 2, got {other:?}"),
+            }
+        }
+    }
+
+    #[test]
+    fn the_library_is_the_version_of_the_header() {
+        let mumps = Mumps::new(true, Ordering::Scotch).unwrap();
+        assert!(mumps.version().starts_with("5."), "{}", mumps.version());
+    }
+}

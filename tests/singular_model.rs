@@ -1,0 +1,28 @@
+//! A singular model names what is unconstrained, whichever backend finds it.
+//!
+//! Reference: the structure of the system itself. A two-node bar hanging from a soil node, with no
+//! interface holding its free end, leaves that end's transverse DOF with no stiffness and no
+//! constraint (a 2-node bar has no transverse stiffness; shared/DESIGN.md §1). The model is
+//! tests/bad-models/run-singular-hanging-bar.toml: its free bar node is node 7, so every backend must
+//! report "node 7 uy" as singular: the dense reference through its zero pivot, MUMPS through
+//! PIVNUL_LIST (INFOG(28) > 0 with ICNTL(24) = 1), UMFPACK through its singular-matrix warning and faer
+//! through the residual check, both followed by geoslip's structural diagnosis.
+
+use geoslip::analysis::{self, Collect, RunOptions};
+use geoslip::linsol::Backend;
+use geoslip::model::Model;
+use std::path::Path;
+
+#[test]
+fn every_backend_names_the_free_node_of_a_singular_model() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/bad-models/run-singular-hanging-bar.toml");
+    let model = Model::load(&path).unwrap_or_else(|e| panic!("{e}"));
+    for backend in Backend::available() {
+        let options = RunOptions { backend, ..RunOptions::default() };
+        let err = analysis::run(&model, &options, &mut Collect::default()).expect_err("the model is singular");
+        let message = err.to_string();
+        assert!(message.contains("singular"), "{backend:?}: {message}");
+        assert!(message.contains("node 7 uy"), "{backend:?}: {message}");
+        assert!(message.contains("run-singular-hanging-bar.toml"), "{backend:?}: {message}");
+    }
+}
