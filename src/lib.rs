@@ -15,6 +15,7 @@
 
 pub mod analysis;
 pub mod assembly;
+pub mod bench;
 pub mod dofs;
 pub mod element;
 pub mod error;

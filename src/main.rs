@@ -38,6 +38,27 @@ enum Command {
     Schema,
     /// List the solver backends compiled into this build.
     Backends,
+    /// Compare the solver backends on generated pull-out meshes (times, factor entries, peak memory).
+    Bench {
+        /// Approximate numbers of unknowns, comma-separated.
+        #[arg(long, value_delimiter = ',', default_value = "1000,10000,100000")]
+        sizes: Vec<usize>,
+        /// Backends to compare (default: every backend of this build).
+        #[arg(long, value_enum, value_delimiter = ',')]
+        backends: Vec<Backend>,
+        /// Repeats of the MUMPS-path-against-bare-MUMPS comparison (interleaved; medians reported).
+        #[arg(long, default_value_t = 5)]
+        repeats: usize,
+    },
+    /// One benchmark measurement, in a process of its own (used by `bench`).
+    #[command(hide = true)]
+    BenchOne {
+        #[arg(long)]
+        dofs: usize,
+        /// A backend, or "none" for the model alone.
+        #[arg(long)]
+        backend: String,
+    },
 }
 
 fn main() -> ExitCode {
@@ -51,6 +72,19 @@ fn main() -> ExitCode {
             for b in Backend::available() {
                 println!("{}", b.name());
             }
+            ExitCode::SUCCESS
+        }
+        Command::Bench { sizes, backends, repeats } => match bench(&sizes, &backends, repeats) {
+            Ok(()) => ExitCode::SUCCESS,
+            Err(e) => {
+                eprintln!("error: {e}");
+                ExitCode::FAILURE
+            }
+        },
+        Command::BenchOne { dofs, backend } => {
+            let backend = Backend::available().into_iter().find(|b| b.name() == backend);
+            let m = geoslip::bench::measure(dofs, backend);
+            println!("{}", serde_json::to_string(&m).unwrap_or_default());
             ExitCode::SUCCESS
         }
         Command::Check { model } => match Model::load(&model) {
@@ -100,6 +134,9 @@ fn run(path: &std::path::Path, solver: Backend, out: Option<PathBuf>) -> Result<
     let seconds = started.elapsed().as_secs_f64();
     match result {
         Ok(stats) => {
+            for w in &stats.warnings {
+                eprintln!("warning: {w}");
+            }
             writer.finish(None, Some(stats), seconds)?;
             let s = &writer.summary;
             println!(
@@ -119,4 +156,80 @@ fn run(path: &std::path::Path, solver: Backend, out: Option<PathBuf>) -> Result<
             Err(e)
         }
     }
+}
+
+/// Run every (size, backend) measurement in a child process and print a Markdown table.
+fn bench(sizes: &[usize], backends: &[Backend], repeats: usize) -> Result<(), String> {
+    use geoslip::bench::Measurement;
+    let exe = std::env::current_exe().map_err(|e| e.to_string())?;
+    let backends: Vec<Backend> =
+        if backends.is_empty() { Backend::available() } else { backends.iter().map(|b| b.resolve()).collect() };
+    for b in &backends {
+        geoslip::linsol::check_available(*b).map_err(|e| e.to_string())?;
+    }
+    println!("geoslip {} — backends: {}", env!("CARGO_PKG_VERSION"), env!("GEOSLIP_BACKENDS"));
+    println!();
+    println!("| unknowns | nonzeros | backend | analysis [s] | factorisation [s] | solve [s] | factor entries | peak memory [MB] | ‖Ax−b‖/‖b‖ |");
+    println!("|---:|---:|---|---:|---:|---:|---:|---:|---:|");
+    for &size in sizes {
+        let mut names: Vec<String> = vec!["none".into()];
+        names.extend(backends.iter().map(|b| b.name().to_string()));
+        for name in names {
+            if name == "dense" && size > geoslip::linsol::dense_ref::SIZE_LIMIT {
+                continue;
+            }
+            let out = std::process::Command::new(&exe)
+                .args(["bench-one", "--dofs", &size.to_string(), "--backend", &name])
+                .output()
+                .map_err(|e| e.to_string())?;
+            let line = String::from_utf8_lossy(&out.stdout);
+            let m: Measurement = match serde_json::from_str(line.trim()) {
+                Ok(m) => m,
+                Err(_) => {
+                    println!(
+                        "| {size} | | {name} | failed: {} | | | | | |",
+                        String::from_utf8_lossy(&out.stderr).lines().last().unwrap_or("no output")
+                    );
+                    continue;
+                }
+            };
+            if let Some(e) = &m.error {
+                println!("| {} | {} | {} | failed: {e} | | | | | |", m.unknowns, m.nonzeros, m.backend);
+                continue;
+            }
+            if name == "none" {
+                println!(
+                    "| {} | {} | (model and assembly only) | | | | | {:.0} | |",
+                    m.unknowns, m.nonzeros, m.peak_memory_mb
+                );
+                continue;
+            }
+            println!(
+                "| {} | {} | {} | {:.3} | {:.3} | {:.4} | {} | {:.0} | {:.1e} |",
+                m.unknowns,
+                m.nonzeros,
+                m.backend,
+                m.analyse_seconds,
+                m.factorize_seconds,
+                m.solve_seconds,
+                m.factor_entries.map(|e| e.to_string()).unwrap_or_else(|| "n/a".into()),
+                m.peak_memory_mb,
+                m.relative_residual
+            );
+        }
+    }
+    if backends.contains(&Backend::Mumps) {
+        println!();
+        println!("MUMPS path (geoslip's wrapper from the assembled matrix: JOB −1, lower triangle and 1-based indices, JOB 1, 2, 3,");
+        println!("residual check, JOB −2) against a bare MUMPS call");
+        println!("(JOB −1, 1, 2, 3, −2 on ready-made coordinates), interleaved, median of {repeats}:");
+        println!();
+        println!("| unknowns | path [s] | bare [s] | path / bare |");
+        println!("|---:|---:|---:|---:|");
+        for &size in sizes {
+            let (path, bare, n) = geoslip::bench::mumps_overhead(size, repeats.max(1))?;
+            println!("| {n} | {path:.4} | {bare:.4} | {:.3} |", path / bare);
+        }
+    }
+    Ok(())
 }

@@ -87,3 +87,22 @@ fn generated_pullout_boxes_agree_on_every_backend() {
         every_backend_agrees(&format!("pull-out box ({kind:?})"), &model);
     }
 }
+
+/// shared/DESIGN.md §2: with Kc of full row rank, K positive definite on its null space and the
+/// supports eliminated, the symmetric indefinite factorisation has exactly as many negative pivots as
+/// active multipliers (Sylvester's law of inertia for the saddle-point matrix). geoslip warns when
+/// MUMPS's INFOG(12) differs; on the examples it must not.
+#[test]
+fn mumps_inertia_equals_the_active_multipliers_on_every_example() {
+    if !Backend::available().contains(&Backend::Mumps) {
+        return; // this build has no MUMPS: nothing reports an inertia
+    }
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
+    for name in ["pullout-box.toml", "annotated-pullout.toml"] {
+        let model = Model::load(&dir.join(name)).unwrap_or_else(|e| panic!("{e}"));
+        let options = geoslip::analysis::RunOptions { backend: Backend::Mumps, ..Default::default() };
+        let stats = geoslip::analysis::run(&model, &options, &mut Collect::default()).unwrap();
+        assert!(stats.factorizations > 0);
+        assert!(stats.warnings.is_empty(), "{name}: {:?}", stats.warnings);
+    }
+}

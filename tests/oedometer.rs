@@ -69,7 +69,7 @@ fn constrained_modulus() -> f64 {
 }
 
 fn surcharge_is_exact(kind: SolidKind) {
-    for backend in [Backend::Dense, Backend::Faer] {
+    for backend in Backend::available() {
         let model = common::model(&column(kind, false), "oedometer.toml");
         let c = common::run(&model, backend);
         let r = c.last().unwrap();

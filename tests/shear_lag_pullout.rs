@@ -91,7 +91,7 @@ fn head_and_tail(c: &geoslip::analysis::Collect, model: &geoslip::model::Model) 
 #[test]
 fn head_stiffness_under_load_control_within_half_a_percent() {
     let model = common::model(&bar_on_rigid_bed("load"), "shear-lag.toml");
-    for backend in [Backend::Dense, Backend::Faer] {
+    for backend in Backend::available() {
         let c = common::run(&model, backend);
         let (u_head, u_tail) = head_and_tail(&c, &model);
         let k = P / -u_head;

@@ -117,7 +117,7 @@ fn solve(solver: &mut dyn LinearSolver, s: &SaddlePoint) -> Result<Vec<f64>, Fai
     solver.factorize(&s.matrix)?;
     let x = solver.solve(&s.rhs)?;
     let r = linsol::relative_residual(&s.matrix, &x, &s.rhs);
-    if !x.iter().all(|v| v.is_finite()) || !(r < 1e-8) {
+    if !x.iter().all(|v| v.is_finite()) || r.is_nan() || r >= 1e-8 {
         return Err(Failure::Singular { equations: Vec::new() });
     }
     Ok(x)

@@ -320,32 +320,10 @@ fn equilibrium(
     dofs: &DofMap,
     state: &mut State,
 ) -> Result<(usize, f64, Vec<f64>), IncrementError> {
-    let n_dof = state.u.len();
     let u_increment_start = state.u.clone();
     let mut linear_residuals = Vec::new();
     for iteration in 1..=options.max_iterations {
-        // Right-hand side: out-of-balance forces on the free DOFs, −g on active rows, −λ on the rest.
-        let rows = InterfaceRows::new(model, &state.interfaces, dofs);
-        let gaps = row_gaps(&rows, &state.u);
-        let f_int = system::internal_force(elements, &rows, &state.u);
-        let f_c = system::constraint_force(&rows, &state.lambda, n_dof);
-        let mut rhs = vec![0.0; dofs.size()];
-        for (d, eq) in dofs.equation.iter().enumerate() {
-            if let Some(e) = eq {
-                rhs[*e] = state.f_ext[d] - f_int[d] - f_c[d];
-            }
-        }
-        let scale = elements.typical_stiffness();
-        for k in 0..dofs.multipliers.len() {
-            rhs[dofs.multiplier_equation(k)] = if system::multiplier_is_active(&state.interfaces, dofs, k) {
-                -scale * gaps[k]
-            } else {
-                -state.lambda[k]
-            };
-        }
-        let triplets = system::assemble(elements, &rows, &state.interfaces, dofs, scale);
-        let active =
-            (0..dofs.multipliers.len()).filter(|&k| system::multiplier_is_active(&state.interfaces, dofs, k)).count();
+        let IterationSystem { triplets, rhs, scale, active } = iteration_system(model, elements, dofs, state);
         let (x, lin_res) = match system.solve(dofs.size(), &triplets, &rhs, active) {
             Ok(v) => v,
             Err(Failure::Singular { equations }) => {
@@ -387,6 +365,70 @@ fn equilibrium(
         }
     }
     Err(IncrementError::NotConverged { iterations: 0, residual: f64::NAN, reference: f64::NAN })
+}
+
+/// The linear system of one equilibrium iteration.
+pub struct IterationSystem {
+    pub triplets: crate::assembly::Triplets,
+    pub rhs: Vec<f64>,
+    /// Scale of the constraint rows (the multiplier unknowns are Δλ/scale).
+    pub scale: f64,
+    /// Rows that hold a constraint (zero diagonal).
+    pub active: usize,
+}
+
+/// Assemble the system of one iteration from the current state: out-of-balance forces on the free
+/// DOFs, −g on active rows, −λ on the rest.
+pub fn iteration_system(model: &Model, elements: &ElementMatrices, dofs: &DofMap, state: &State) -> IterationSystem {
+    let n_dof = state.u.len();
+    let rows = InterfaceRows::new(model, &state.interfaces, dofs);
+    let gaps = row_gaps(&rows, &state.u);
+    let f_int = system::internal_force(elements, &rows, &state.u);
+    let f_c = system::constraint_force(&rows, &state.lambda, n_dof);
+    let mut rhs = vec![0.0; dofs.size()];
+    for (d, eq) in dofs.equation.iter().enumerate() {
+        if let Some(e) = eq {
+            rhs[*e] = state.f_ext[d] - f_int[d] - f_c[d];
+        }
+    }
+    let scale = elements.typical_stiffness();
+    let mut active = 0;
+    for k in 0..dofs.multipliers.len() {
+        rhs[dofs.multiplier_equation(k)] = if system::multiplier_is_active(&state.interfaces, dofs, k) {
+            active += 1;
+            -scale * gaps[k]
+        } else {
+            -state.lambda[k]
+        };
+    }
+    let triplets = system::assemble(elements, &rows, &state.interfaces, dofs, scale);
+    IterationSystem { triplets, rhs, scale, active }
+}
+
+/// The first system a run of `model` solves (stage 1, step 1, iteration 1): for benchmarks and
+/// solver studies.
+pub fn first_system(model: &Model) -> (usize, IterationSystem) {
+    let elements = ElementMatrices::compute(model);
+    let dof_count = 2 * model.mesh.nodes.len();
+    let mut held = vec![false; dof_count];
+    for &(n, d) in &model.supports {
+        held[dof(n, d)] = true;
+    }
+    let stage = &model.stages[0];
+    for &(n, d, _) in &stage.prescribed {
+        held[dof(n, d)] = true;
+    }
+    let mut interfaces = model.interfaces.clone();
+    let dofs = DofMap::new(model.mesh.nodes.len(), &held, &interfaces);
+    mark_redundant_rows(model, &mut interfaces, &dofs);
+    let factor = stage.load_factors[0];
+    let mut u = vec![0.0; dof_count];
+    for &(n, d, value) in &stage.prescribed {
+        u[dof(n, d)] = factor * value;
+    }
+    let f_ext = external_force(model, &stage.loads).into_iter().map(|f| factor * f).collect();
+    let state = State { u, lambda: vec![0.0; dofs.multipliers.len()], interfaces, f_ext };
+    (dofs.size(), iteration_system(model, &elements, &dofs, &state))
 }
 
 fn row_gaps(rows: &InterfaceRows, u: &[f64]) -> Vec<f64> {

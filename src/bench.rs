@@ -1,0 +1,163 @@
+//! `geoslip bench`: the solver backends on generated pull-out meshes, side by side.
+//!
+//! Each (size, backend) pair runs in a child process of its own (`geoslip bench-one`), so that its
+//! peak resident memory is its own; a child with no backend measures the model alone. Times are
+//! wall-clock seconds on this machine and are reported next to ratios measured in the same command,
+//! because machines here are noisy. The MUMPS path (assembly to CSC, lower triangle, analysis,
+//! factorisation, solve, residual check) is also timed against a bare MUMPS call on the same matrix,
+//! interleaved, in one process: the path starts from the assembled matrix (assembly is the same work
+//! whichever backend follows) and includes the wrapper's own work (lower triangle, index
+//! conversion, copies) and the residual check.
+
+use crate::analysis;
+use crate::assembly::{CscMatrix, PatternCache};
+use crate::linsol::{self, Backend};
+use crate::meshgen::PullOutBox;
+use crate::model::Model;
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+use std::time::Instant;
+
+/// A generated pull-out box with about `dofs` unknowns (quad4, square-ish elements).
+pub fn pullout_model(dofs: usize) -> Model {
+    // unknowns ≈ 2·(nx+1)·(2·ny_half+1), with nx = r·2·ny_half for square elements in the
+    // 1.0 m × 0.6 m box (r = 1/0.6): 2·r·(2·ny_half)² ≈ unknowns
+    let r = 1.0 / 0.6;
+    let rows = (dofs as f64 / (2.0 * r)).sqrt();
+    let ny_half = ((rows / 2.0).round() as usize).max(1);
+    let nx = ((r * 2.0 * ny_half as f64).round() as usize).max(4);
+    let file = PullOutBox { nx, ny_half, steps: 1, ..PullOutBox::default() }.model();
+    Model::from_file(Path::new("generated-pullout-box"), &file).expect("the generated pull-out box is a valid model")
+}
+
+/// One backend on one matrix.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct Measurement {
+    pub backend: String,
+    pub unknowns: usize,
+    pub nonzeros: usize,
+    pub analyse_seconds: f64,
+    pub factorize_seconds: f64,
+    pub solve_seconds: f64,
+    pub factor_entries: Option<u64>,
+    pub peak_memory_mb: f64,
+    pub relative_residual: f64,
+    pub error: Option<String>,
+}
+
+/// Peak resident memory of this process so far (VmHWM), MB.
+pub fn peak_memory_mb() -> f64 {
+    std::fs::read_to_string("/proc/self/status")
+        .ok()
+        .and_then(|s| {
+            s.lines()
+                .find(|l| l.starts_with("VmHWM:"))
+                .and_then(|l| l.split_whitespace().nth(1).and_then(|kb| kb.parse::<f64>().ok()))
+        })
+        .map(|kb| kb / 1024.0)
+        .unwrap_or(f64::NAN)
+}
+
+/// Build the model's first system and time one backend on it (`None`: the model alone).
+pub fn measure(dofs: usize, backend: Option<Backend>) -> Measurement {
+    let model = pullout_model(dofs);
+    let (n, system) = analysis::first_system(&model);
+    let matrix = PatternCache::default().assemble(n, &system.triplets).0;
+    let mut m = Measurement {
+        backend: backend.map(|b| b.name().to_string()).unwrap_or_else(|| "model only".into()),
+        unknowns: n,
+        nonzeros: matrix.pattern.nnz(),
+        analyse_seconds: 0.0,
+        factorize_seconds: 0.0,
+        solve_seconds: 0.0,
+        factor_entries: None,
+        peak_memory_mb: 0.0,
+        relative_residual: 0.0,
+        error: None,
+    };
+    if let Some(backend) = backend {
+        if let Err(e) = time_backend(backend, &matrix, &system.rhs, &mut m) {
+            m.error = Some(e);
+        }
+    }
+    m.peak_memory_mb = peak_memory_mb();
+    m
+}
+
+fn time_backend(backend: Backend, matrix: &CscMatrix, rhs: &[f64], m: &mut Measurement) -> Result<(), String> {
+    let mut solver = linsol::make(backend, true).map_err(|e| e.to_string())?;
+    let t = Instant::now();
+    solver.analyse(matrix).map_err(|e| format!("{e:?}"))?;
+    m.analyse_seconds = t.elapsed().as_secs_f64();
+    let t = Instant::now();
+    solver.factorize(matrix).map_err(|e| format!("{e:?}"))?;
+    m.factorize_seconds = t.elapsed().as_secs_f64();
+    let t = Instant::now();
+    let x = solver.solve(rhs).map_err(|e| format!("{e:?}"))?;
+    m.solve_seconds = t.elapsed().as_secs_f64();
+    m.factor_entries = solver.factor_entries();
+    m.relative_residual = linsol::relative_residual(matrix, &x, rhs);
+    Ok(())
+}
+
+/// The MUMPS path (wrapper: JOB −1, lower triangle and 1-based indices, JOB 1, 2, 3, residual check,
+/// JOB −2) against a bare MUMPS call on the same matrix, interleaved `repeats` times in this process. Returns (median path seconds, median bare seconds, unknowns).
+pub fn mumps_overhead(dofs: usize, repeats: usize) -> Result<(f64, f64, usize), String> {
+    if !Backend::available().contains(&Backend::Mumps) {
+        return Err("this build has no MUMPS".into());
+    }
+    let model = pullout_model(dofs);
+    let (n, system) = analysis::first_system(&model);
+    // The bare call gets MUMPS's input ready-made: 1-based lower-triangle coordinates.
+    let matrix = PatternCache::default().assemble(n, &system.triplets).0;
+    let (mut irn, mut jcn, mut a) = (Vec::new(), Vec::new(), Vec::new());
+    let p = &matrix.pattern;
+    for j in 0..n {
+        for k in p.col_ptr()[j]..p.col_ptr()[j + 1] {
+            if p.row_idx()[k] >= j {
+                irn.push(p.row_idx()[k] as i32 + 1);
+                jcn.push(j as i32 + 1);
+                a.push(matrix.values[k]);
+            }
+        }
+    }
+    let mut path = Vec::new();
+    let mut bare = Vec::new();
+    for _ in 0..repeats {
+        // The path: geoslip's MUMPS wrapper from the assembled matrix to a checked solution.
+        let t = Instant::now();
+        let mut solver = linsol::make(Backend::Mumps, true).map_err(|e| e.to_string())?;
+        solver.analyse(&matrix).map_err(|e| format!("{e:?}"))?;
+        solver.factorize(&matrix).map_err(|e| format!("{e:?}"))?;
+        let x = solver.solve(&system.rhs).map_err(|e| format!("{e:?}"))?;
+        let residual = linsol::relative_residual(&matrix, &x, &system.rhs);
+        drop(solver);
+        path.push(t.elapsed().as_secs_f64());
+        if !(residual < 1e-8) {
+            return Err(format!("the MUMPS path's residual is {residual:e}"));
+        }
+        let t = Instant::now();
+        bare_mumps(n, &mut irn, &mut jcn, &mut a, &system.rhs)?;
+        bare.push(t.elapsed().as_secs_f64());
+    }
+    Ok((median(&mut path), median(&mut bare), n))
+}
+
+#[cfg(geoslip_mumps)]
+fn bare_mumps(n: usize, irn: &mut [i32], jcn: &mut [i32], a: &mut [f64], rhs: &[f64]) -> Result<(), String> {
+    let mut x = rhs.to_vec();
+    match linsol::native::mumps::bare_run(true, n, irn, jcn, a, &mut x) {
+        0 => Ok(()),
+        code => Err(linsol::native::mumps_message(code, 0)),
+    }
+}
+
+#[cfg(not(geoslip_mumps))]
+fn bare_mumps(_: usize, _: &mut [i32], _: &mut [i32], _: &mut [f64], _: &[f64]) -> Result<(), String> {
+    Err("this build has no MUMPS".into())
+}
+
+fn median(v: &mut [f64]) -> f64 {
+    v.sort_by(|a, b| a.total_cmp(b));
+    v[v.len() / 2]
+}
