@@ -250,6 +250,7 @@ impl PullOutBox {
                     }],
                 },
             ],
+            analysis: Default::default(),
         }
     }
 }

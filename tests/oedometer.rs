@@ -61,6 +61,7 @@ fn column(kind: SolidKind, self_weight: bool) -> ModelFile {
         supports: vec![support("base", &[Direction::X, Direction::Y]), support("sides", &[Direction::X])],
         interfaces: Vec::new(),
         stages: vec![Stage { name: "load".into(), load_factors: vec![1.0], loads: vec![load], prescribed: Vec::new() }],
+        analysis: Default::default(),
     }
 }
 

@@ -78,6 +78,7 @@ fn bar_on_rigid_bed(control: &str) -> ModelFile {
             law: ShearLawSpec::Linear { shear_stiffness: KS },
         }],
         stages: vec![Stage { name: "pull".into(), load_factors: vec![1.0], loads, prescribed }],
+        analysis: Default::default(),
     }
 }
 

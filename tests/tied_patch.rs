@@ -78,6 +78,7 @@ fn stacked_blocks(kind: SolidKind, nx: usize) -> ModelFile {
                 uy: Some(-0.01),
             }],
         }],
+        analysis: Default::default(),
     }
 }
 

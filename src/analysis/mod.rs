@@ -1,43 +1,82 @@
-//! Stages, increments and the equilibrium iteration.
+//! Stages, increments and the equilibrium iteration (the paper's Fig. 3).
 //!
-//! Each increment solves, until the out-of-balance force and the displacement correction are both
-//! small,
+//! Each increment iterates, until the out-of-balance force, the gaps and the displacement correction
+//! are all small and no interface point changes state,
 //!
 //! ```text
-//! [ K  Cᵀ ] { Δu }   { f_ext − f_int(u) − Cᵀλ }
-//! [ C  D  ] { Δλ } = { −g(u)  (or −λ on a unit-diagonal row) }
+//! [ K  sCᵀ ] { Δu    }   { f_ext − f_int(u) − Cᵀλ }
+//! [ sC sD  ] { Δλ/s } = { −s·g(u)  (or −λ on a unit-diagonal row) }
 //! ```
 //!
-//! (the paper's Eq. 5 in residual form). Held DOFs (supports and prescribed displacements) are
-//! eliminated; their reactions come from the same residual.
+//! (the paper's Eq. 5 in residual form). f_int holds the elements' forces and each spring's τ·ℓ from
+//! its shear law; K holds the elements and each spring's Ks·ℓ (the paper's constant-stiffness
+//! iteration: the factorisation is reused and each iteration costs one solve) or its tangent (the
+//! `newton` scheme, symmetric, with σn lagged one iteration). Normal rows are released when λ turns
+//! tensile and re-activated when the gap closes. A failed increment is cut back with the state
+//! restored. After each converged increment every slave point is re-associated with the master
+//! segment it now faces. Held DOFs (supports and prescribed displacements) are eliminated; their
+//! reactions come from the same residual.
 
+pub mod reassociate;
 pub mod results;
 pub mod system;
 
 use crate::dofs::DofMap;
 use crate::error::{Error, SolveError};
-use crate::interface::{Interface, NormalState, ShearLaw};
+use crate::interface::{Interface, NormalState, ShearResponse};
 use crate::linsol::{dense_ref, Backend, Failure, LinearSolver};
-use crate::model::file::Direction;
+use crate::model::file::{Direction, ReassociationRule, Scheme};
 use crate::model::{Load, Model};
 use results::StepResults;
 use std::collections::HashMap;
 use system::{ElementMatrices, InterfaceRows, LinearSystem, SolverStats};
 
-/// What a run may be asked to do.
+/// What a run may be asked to do. [`RunOptions::for_model`] takes the model's `[analysis]` settings.
 #[derive(Debug, Clone)]
 pub struct RunOptions {
     pub backend: Backend,
+    pub scheme: Scheme,
+    pub reassociation: ReassociationRule,
     /// Out-of-balance force relative to the applied and reaction forces.
     pub force_tolerance: f64,
     /// Displacement correction relative to the increment's displacement.
     pub displacement_tolerance: f64,
     pub max_iterations: usize,
+    /// How many times an increment may be halved before the run gives up.
+    pub max_cutbacks: usize,
+    /// Hold σn at its value at the start of each stage (for comparison with programs that do).
+    pub freeze_normal_stress: bool,
 }
 
 impl Default for RunOptions {
     fn default() -> Self {
-        RunOptions { backend: Backend::Auto, force_tolerance: 1e-9, displacement_tolerance: 1e-9, max_iterations: 25 }
+        RunOptions {
+            backend: Backend::Auto,
+            scheme: Scheme::ConstantStiffness,
+            reassociation: ReassociationRule::Segment,
+            force_tolerance: 1e-9,
+            displacement_tolerance: 1e-9,
+            max_iterations: 300,
+            max_cutbacks: 8,
+            freeze_normal_stress: false,
+        }
+    }
+}
+
+impl RunOptions {
+    /// The model's `[analysis]` settings with a backend.
+    pub fn for_model(model: &Model, backend: Backend) -> RunOptions {
+        let a = &model.analysis;
+        RunOptions {
+            backend,
+            scheme: a.scheme,
+            reassociation: a.reassociation,
+            force_tolerance: a.force_tolerance,
+            displacement_tolerance: a.displacement_tolerance,
+            max_iterations: a.max_iterations,
+            max_cutbacks: a.max_cutbacks,
+            freeze_normal_stress: a.freeze_normal_stress,
+        }
     }
 }
 
@@ -74,6 +113,8 @@ pub struct StepRecord {
     pub step: usize,
     pub load_factor: f64,
     pub iterations: usize,
+    /// How many times this increment was cut back before it converged.
+    pub cutbacks: usize,
     /// Out-of-balance force after the last iteration, relative to the reference force.
     pub force_residual: f64,
     /// ‖Ax − b‖/‖b‖ of each linear solve in this step.
@@ -81,6 +122,15 @@ pub struct StepRecord {
     pub seconds: f64,
     /// Interface points whose normal row repeats another row on the free DOFs (see NormalState).
     pub redundant_rows: Vec<String>,
+    /// Interface points that changed state (released, re-activated, held) in this step.
+    pub state_changes: Vec<String>,
+    /// Points re-associated with another master segment after this step.
+    pub reassociations: Vec<reassociate::Reassociation>,
+    /// Points now sliding at their strength.
+    pub sliding_points: usize,
+    /// Force balance of every reinforcement: what is applied to its nodes against what its interfaces
+    /// carry.
+    pub balance: Vec<results::ReinforcementBalance>,
 }
 
 /// The state carried from step to step.
@@ -93,15 +143,18 @@ pub struct State {
     pub interfaces: Vec<Interface>,
     /// Total external force applied so far.
     pub f_ext: Vec<f64>,
+    /// Displacements at the end of the last converged increment (slip increments start there).
+    pub u_committed: Vec<f64>,
+    /// σn per spring frozen at the start of the stage (when asked for).
+    pub frozen_sigma_n: Option<Vec<f64>>,
 }
 
 /// Run every stage of a model.
 ///
 /// # Errors
-/// A solve or convergence failure names the stage and step; steps completed before it have
-/// already been passed to `sink`.
+/// A solve or convergence failure names the stage and step, and the interface points that kept
+/// changing state; steps completed before it have already been passed to `sink`.
 pub fn run(model: &Model, options: &RunOptions, sink: &mut dyn StepSink) -> Result<SolverStats, Error> {
-    refuse_laws_not_yet_implemented(model)?;
     let elements = ElementMatrices::compute(model);
     let mut system = LinearSystem::new(options.backend).map_err(|source| Error::Solve {
         file: model.source.clone(),
@@ -115,7 +168,10 @@ pub fn run(model: &Model, options: &RunOptions, sink: &mut dyn StepSink) -> Resu
         lambda: vec![0.0; crate::dofs::multipliers(&model.interfaces).len()],
         interfaces: model.interfaces.clone(),
         f_ext: vec![0.0; dof_count],
+        u_committed: vec![0.0; dof_count],
+        frozen_sigma_n: None,
     };
+    let bar_only = bar_only_nodes(model);
     let mut held = vec![false; dof_count];
     for &(n, d) in &model.supports {
         held[dof(n, d)] = true;
@@ -129,32 +185,76 @@ pub fn run(model: &Model, options: &RunOptions, sink: &mut dyn StepSink) -> Resu
         let stage_force = external_force(model, &stage.loads);
         let f_ext_start = state.f_ext.clone();
         let u_start = state.u.clone();
-        for (step_index, &factor) in stage.load_factors.iter().enumerate() {
+        state.frozen_sigma_n = options.freeze_normal_stress.then(|| {
+            let rows = InterfaceRows::new(model, &state.interfaces, &dofs);
+            rows.springs.iter().map(|s| normal_stress(&state, &rows, s)).collect()
+        });
+        // Target load factors; a failed increment puts its midpoint in front.
+        let mut targets: Vec<f64> = stage.load_factors.clone();
+        let mut reached = 0.0;
+        let mut step = 0;
+        let mut cutbacks = 0;
+        while let Some(&target) = targets.first() {
             let started = std::time::Instant::now();
-            let step = step_index + 1;
+            let snapshot = state.clone();
             for (k, f) in state.f_ext.iter_mut().enumerate() {
-                *f = f_ext_start[k] + factor * stage_force[k];
+                *f = f_ext_start[k] + target * stage_force[k];
             }
             for &(n, d, value) in &stage.prescribed {
-                state.u[dof(n, d)] = u_start[dof(n, d)] + factor * value;
+                state.u[dof(n, d)] = u_start[dof(n, d)] + target * value;
             }
-            let (iterations, force_residual, linear_residuals) =
-                equilibrium(model, options, &elements, &mut system, &dofs, &mut state)
-                    .map_err(|e| e.at(&model.source, &stage.name, step))?;
+            let attempt = equilibrium(model, options, &elements, &mut system, &dofs, &bar_only, &mut state);
+            let report = match attempt {
+                Ok(report) => report,
+                Err(e) => {
+                    if e.retryable() && cutbacks < options.max_cutbacks {
+                        state = snapshot;
+                        targets.insert(0, 0.5 * (reached + target));
+                        cutbacks += 1;
+                        continue;
+                    }
+                    return Err(e.at(&model.source, &stage.name, step + 1, cutbacks));
+                }
+            };
+            // Commit the increment: shear states, then the re-association for the next one.
+            commit(&mut state, &report.springs);
+            step += 1;
             let rows = InterfaceRows::new(model, &state.interfaces, &dofs);
-            let results = StepResults::compute(model, &elements, &rows, &state, &held);
+            let taus: Vec<f64> = report.springs.iter().map(|r| r.tau).collect();
+            let results = StepResults::compute(model, &elements, &rows, &taus, &state, &held);
+            let balance = results::reinforcement_balance(model, &results, &state);
+            let reassociations = match options.reassociation {
+                ReassociationRule::None => Vec::new(),
+                rule => reassociate::reassociate(
+                    &model.mesh,
+                    &mut state.interfaces,
+                    &state.u,
+                    rule == ReassociationRule::NearestNode,
+                ),
+            };
+            state.u_committed = state.u.clone();
             let record = StepRecord {
                 stage: stage.name.clone(),
                 stage_index,
                 step,
-                load_factor: factor,
-                iterations,
-                force_residual,
-                linear_residuals,
+                load_factor: target,
+                iterations: report.iterations,
+                cutbacks,
+                force_residual: report.force_residual,
+                linear_residuals: report.linear_residuals,
                 seconds: started.elapsed().as_secs_f64(),
                 redundant_rows: redundant.clone(),
+                state_changes: report.state_changes,
+                reassociations,
+                sliding_points: report.springs.iter().filter(|r| r.sliding).count(),
+                balance,
             };
             sink.step_done(&results, &record, &system.stats)?;
+            targets.remove(0);
+            reached = target;
+            if stage.load_factors.iter().any(|&f| (f - target).abs() < 1e-15) {
+                cutbacks = 0;
+            }
         }
     }
     Ok(system.stats)
@@ -164,26 +264,22 @@ fn dof(n: usize, d: Direction) -> usize {
     2 * n + if d == Direction::X { 0 } else { 1 }
 }
 
-fn refuse_laws_not_yet_implemented(model: &Model) -> Result<(), Error> {
-    let problems: Vec<crate::error::Problem> = model
-        .interfaces
-        .iter()
-        .enumerate()
-        .filter_map(|(k, i)| match &i.law {
-            ShearLaw::Strength { kind, .. } => Some(crate::error::Problem {
-                field: format!("interfaces[{k}].law"),
-                entity: Some(format!("interface \"{}\"", i.name)),
-                message: format!(
-                    "the '{kind}' shear law is accepted by the model format, but this version of geoslip runs only 'linear' and 'tie' interfaces; its strength limit is not applied yet"
-                ),
-            }),
-            _ => None,
-        })
-        .collect();
-    if problems.is_empty() {
-        Ok(())
-    } else {
-        Err(Error::Model(crate::error::ModelError { file: model.source.clone(), problems }))
+/// Nodes that belong to no soil element (reinforcement nodes): their transverse DOF has no
+/// stiffness of its own.
+fn bar_only_nodes(model: &Model) -> Vec<bool> {
+    let mut in_soil = vec![false; model.mesh.nodes.len()];
+    for s in &model.mesh.solids {
+        for &n in &s.nodes {
+            in_soil[n] = true;
+        }
+    }
+    in_soil.iter().map(|s| !s).collect()
+}
+
+/// Store each spring's converged law state in its point.
+fn commit(state: &mut State, springs: &[SpringResult]) {
+    for r in springs {
+        state.interfaces[r.interface].faces[r.face].points[r.point].shear = r.response.state.clone();
     }
 }
 
@@ -250,12 +346,12 @@ fn mark_redundant_rows(model: &Model, interfaces: &mut [Interface], dofs: &DofMa
             format!("interface \"{}\" {} face at node {}", i.name, f.label, model.mesh.node_id(f.points[m.point].slave))
         };
         let carried_by = if free.is_empty() {
-            Some("the supports (every DOF of the row is held)".to_string())
+            Some(("the supports (every DOF of the row is held)".to_string(), None))
         } else {
             let scale = free[0].1;
             let key: Vec<(usize, i64)> = free.iter().map(|&(e, c)| (e, (c / scale * 1e9).round() as i64)).collect();
             match seen.get(&key) {
-                Some(&first) => Some(name(interfaces, first)),
+                Some(&first) => Some((name(interfaces, first), Some(first))),
                 None => {
                     seen.insert(key, k);
                     None
@@ -265,7 +361,7 @@ fn mark_redundant_rows(model: &Model, interfaces: &mut [Interface], dofs: &DofMa
         let point = &mut interfaces[m.interface].faces[m.face].points[m.point];
         let state = if m.tangential { &mut point.tangential_state } else { &mut point.normal_state };
         match carried_by {
-            Some(by) => {
+            Some((by, multiplier)) => {
                 report.push(format!(
                     "{} ({}): carried by {by}",
                     name(interfaces, k),
@@ -273,7 +369,7 @@ fn mark_redundant_rows(model: &Model, interfaces: &mut [Interface], dofs: &DofMa
                 ));
                 let point = &mut interfaces[m.interface].faces[m.face].points[m.point];
                 let state = if m.tangential { &mut point.tangential_state } else { &mut point.normal_state };
-                *state = NormalState::Redundant { carried_by: by };
+                *state = NormalState::Redundant { carried_by: by, multiplier };
             }
             None => {
                 if matches!(state, NormalState::Redundant { .. }) {
@@ -288,42 +384,152 @@ fn mark_redundant_rows(model: &Model, interfaces: &mut [Interface], dofs: &DofMa
 /// Why an increment failed, before the stage and step are known.
 enum IncrementError {
     Solve(SolveError),
-    NotConverged { iterations: usize, residual: f64, reference: f64 },
+    NotConverged { iterations: usize, residual: f64, reference: f64, unsettled: Vec<String> },
 }
 
 impl IncrementError {
-    fn at(self, file: &std::path::Path, stage: &str, step: usize) -> Error {
+    /// A failure that a smaller increment may cure.
+    fn retryable(&self) -> bool {
+        matches!(self, IncrementError::NotConverged { .. })
+    }
+
+    fn at(self, file: &std::path::Path, stage: &str, step: usize, cutbacks: usize) -> Error {
         match self {
             IncrementError::Solve(source) => {
                 Error::Solve { file: file.to_path_buf(), stage: stage.to_string(), step, source }
             }
-            IncrementError::NotConverged { iterations, residual, reference } => Error::NotConverged {
+            IncrementError::NotConverged { iterations, residual, reference, unsettled } => Error::NotConverged {
                 file: file.to_path_buf(),
                 stage: stage.to_string(),
                 step,
                 iterations,
                 residual,
                 reference,
-                hint: "try more load factors in this stage (smaller increments)".into(),
+                hint: format!(
+                    "after {cutbacks} cutbacks. {}Try more load factors in this stage, a larger max_iterations, or the newton scheme",
+                    if unsettled.is_empty() {
+                        String::new()
+                    } else {
+                        format!("Interface points that kept changing state: {}. ", cap(unsettled).join("; "))
+                    }
+                ),
             },
         }
     }
 }
 
-/// Iterate one increment to equilibrium. Returns (iterations, final relative residual, linear
-/// solve residuals).
+/// One spring's law evaluated at the current iterate.
+#[derive(Debug, Clone)]
+pub struct SpringResult {
+    pub interface: usize,
+    pub face: usize,
+    pub point: usize,
+    pub response: ShearResponse,
+    pub tau: f64,
+    pub sigma_n: f64,
+    pub sliding: bool,
+}
+
+/// A converged increment.
+struct IncrementReport {
+    iterations: usize,
+    force_residual: f64,
+    linear_residuals: Vec<f64>,
+    springs: Vec<SpringResult>,
+    state_changes: Vec<String>,
+}
+
+/// σn = λ/ℓ of a spring's point (compression positive); a redundant row's force is carried by
+/// another row, whose σn it shares.
+fn normal_stress(state: &State, rows: &InterfaceRows, spring: &system::Spring) -> f64 {
+    let p = &state.interfaces[spring.interface].faces[spring.face].points[spring.point];
+    match &p.normal_state {
+        NormalState::Active => state.lambda[spring.normal_multiplier] / spring.tributary.max(f64::MIN_POSITIVE),
+        NormalState::Redundant { multiplier: Some(carrier), .. } => {
+            let owner = rows.springs.iter().find(|s| s.normal_multiplier == *carrier);
+            let l = owner.map(|s| s.tributary).unwrap_or(spring.tributary).max(f64::MIN_POSITIVE);
+            state.lambda[*carrier].abs() / l
+        }
+        _ => 0.0,
+    }
+}
+
+/// Evaluate every spring's law at the current displacements.
+fn evaluate_springs(model: &Model, state: &State, rows: &InterfaceRows) -> Vec<SpringResult> {
+    rows.springs
+        .iter()
+        .enumerate()
+        .map(|(k, s)| {
+            let interface = &state.interfaces[s.interface];
+            let p = &interface.faces[s.face].points[s.point];
+            let slip_increment: f64 = s.row.iter().map(|&(d, c)| c * (state.u[d] - state.u_committed[d])).sum();
+            let slip = p.shear.slip + slip_increment;
+            let sigma_n = match &state.frozen_sigma_n {
+                Some(frozen) => frozen.get(k).copied().unwrap_or(0.0),
+                None => normal_stress(state, rows, s),
+            };
+            let response = if p.in_contact() {
+                interface.law.response(&p.shear, slip, sigma_n)
+            } else {
+                // Out of contact: no shear; the slip goes on accumulating and restarts elastic.
+                let mut st = p.shear.clone();
+                st.slip = slip;
+                st.plastic_slip = slip;
+                st.tau = 0.0;
+                ShearResponse { tau: 0.0, tangent: 0.0, state: st, sliding: false }
+            };
+            let _ = model;
+            SpringResult {
+                interface: s.interface,
+                face: s.face,
+                point: s.point,
+                tau: response.tau,
+                sliding: response.sliding,
+                sigma_n,
+                response,
+            }
+        })
+        .collect()
+}
+
+/// Iterate one increment to equilibrium.
 fn equilibrium(
     model: &Model,
     options: &RunOptions,
     elements: &ElementMatrices,
     system: &mut LinearSystem,
     dofs: &DofMap,
+    bar_only: &[bool],
     state: &mut State,
-) -> Result<(usize, f64, Vec<f64>), IncrementError> {
+) -> Result<IncrementReport, IncrementError> {
     let u_increment_start = state.u.clone();
     let mut linear_residuals = Vec::new();
+    let mut flips: HashMap<usize, usize> = HashMap::new();
+    let mut state_changes = Vec::new();
+    let characteristic = model.mesh.characteristic_length();
     for iteration in 1..=options.max_iterations {
-        let IterationSystem { triplets, rhs, scale, active } = iteration_system(model, elements, dofs, state);
+        state_changes.extend(hold_free_reinforcement_nodes(model, state, dofs, bar_only));
+        let rows = InterfaceRows::new(model, &state.interfaces, dofs);
+        let springs = evaluate_springs(model, state, &rows);
+        let stiffness: Vec<f64> = rows
+            .springs
+            .iter()
+            .zip(&springs)
+            .map(|(s, r)| {
+                let p = &state.interfaces[s.interface].faces[s.face].points[s.point];
+                if !p.in_contact() {
+                    return 0.0;
+                }
+                let ks = state.interfaces[s.interface].law.shear_stiffness().unwrap_or(0.0);
+                let k = match options.scheme {
+                    Scheme::ConstantStiffness => ks,
+                    Scheme::Newton => r.response.tangent.max(0.0),
+                };
+                k * s.tributary
+            })
+            .collect();
+        let IterationSystem { triplets, rhs, scale, active } =
+            iteration_system(elements, &rows, &springs, &stiffness, dofs, state);
         let (x, lin_res) = match system.solve(dofs.size(), &triplets, &rhs, active) {
             Ok(v) => v,
             Err(Failure::Singular { equations }) => {
@@ -345,26 +551,156 @@ fn equilibrium(
         for k in 0..dofs.multipliers.len() {
             state.lambda[k] += scale * x[dofs.multiplier_equation(k)];
         }
-        // Converged when the out-of-balance force is small and the gaps are closed, and either the
-        // correction is small against the increment or this was the first solve (a first solve that
-        // already balances the forces had a linear increment: its correction is the increment).
+        let rows = InterfaceRows::new(model, &state.interfaces, dofs);
+        let springs = evaluate_springs(model, state, &rows);
+        let changes = update_active_set(model, state, &rows, dofs, bar_only, characteristic, &mut flips);
+        state_changes.extend(changes.iter().cloned());
+        // Converged when the out-of-balance force is small, the gaps are closed, no point changed
+        // state, and either the correction is small against the increment or this was the first
+        // solve (a first solve that already balances the forces had a linear increment).
         let increment2: f64 = state.u.iter().zip(&u_increment_start).map(|(a, b)| (a - b).powi(2)).sum();
         let displacement_ok = iteration == 1
             || correction2.sqrt() <= options.displacement_tolerance * increment2.sqrt().max(f64::MIN_POSITIVE);
-        let rows = InterfaceRows::new(model, &state.interfaces, dofs);
-        let (residual, reference) = out_of_balance(elements, &rows, state, dofs);
+        let taus: Vec<f64> = springs.iter().map(|r| r.tau).collect();
+        let (residual, reference) = out_of_balance(elements, &rows, &taus, state, dofs);
         if !residual.is_finite() {
-            return Err(IncrementError::NotConverged { iterations: iteration, residual, reference });
+            return Err(IncrementError::NotConverged {
+                iterations: iteration,
+                residual,
+                reference,
+                unsettled: Vec::new(),
+            });
         }
-        let gaps = row_gaps(&rows, &state.u);
-        if residual <= options.force_tolerance * reference && gaps_closed(&gaps, state, dofs) && displacement_ok {
-            return Ok((iteration, residual / reference, linear_residuals));
+        let gaps = rows.gaps(&state.u);
+        if changes.is_empty()
+            && residual <= options.force_tolerance * reference
+            && gaps_closed(&gaps, state, dofs, characteristic)
+            && displacement_ok
+        {
+            return Ok(IncrementReport {
+                iterations: iteration,
+                force_residual: residual / reference,
+                linear_residuals,
+                springs,
+                state_changes,
+            });
         }
         if iteration == options.max_iterations {
-            return Err(IncrementError::NotConverged { iterations: iteration, residual, reference });
+            let mut unsettled: Vec<(usize, usize)> = flips.into_iter().filter(|&(_, n)| n > 1).collect();
+            unsettled.sort_by_key(|&(_, n)| std::cmp::Reverse(n));
+            let unsettled = unsettled
+                .into_iter()
+                .map(|(k, n)| format!("{} ({n} changes)", multiplier_name(model, &state.interfaces, dofs, k)))
+                .collect();
+            return Err(IncrementError::NotConverged { iterations: iteration, residual, reference, unsettled });
         }
     }
-    Err(IncrementError::NotConverged { iterations: 0, residual: f64::NAN, reference: f64::NAN })
+    Err(IncrementError::NotConverged { iterations: 0, residual: f64::NAN, reference: f64::NAN, unsettled: Vec::new() })
+}
+
+fn multiplier_name(model: &Model, interfaces: &[Interface], dofs: &DofMap, k: usize) -> String {
+    let m = dofs.multipliers[k];
+    let i = &interfaces[m.interface];
+    let f = &i.faces[m.face];
+    format!("interface \"{}\" {} face at node {}", i.name, f.label, model.mesh.node_id(f.points[m.point].slave))
+}
+
+/// Release rows whose λ turned tensile, re-activate released rows whose gap closed, and hold the
+/// transverse DOF of a reinforcement node whose faces are all open (a 2-node bar has no transverse
+/// stiffness). Returns what changed.
+fn update_active_set(
+    model: &Model,
+    state: &mut State,
+    rows: &InterfaceRows,
+    dofs: &DofMap,
+    bar_only: &[bool],
+    characteristic: f64,
+    flips: &mut HashMap<usize, usize>,
+) -> Vec<String> {
+    let gaps = rows.gaps(&state.u);
+    let lambda_scale = state.lambda.iter().fold(0.0f64, |m, l| m.max(l.abs())).max(f64::MIN_POSITIVE);
+    // Hysteresis bands: a row is released only when clearly tensile, re-activated only when the
+    // faces clearly overlap, so states do not ping-pong on round-off.
+    let release_below = -1e-6 * lambda_scale;
+    let close_above = 1e-9 * characteristic;
+    let mut changes = Vec::new();
+    for (k, m) in dofs.multipliers.iter().enumerate() {
+        if m.tangential || state.interfaces[m.interface].law.is_tie() {
+            continue;
+        }
+        let p = &mut state.interfaces[m.interface].faces[m.face].points[m.point];
+        let new = match p.normal_state {
+            NormalState::Active if state.lambda[k] < release_below => Some(NormalState::Released),
+            NormalState::Released | NormalState::Held { outside: false } if gaps[k] > close_above => {
+                Some(NormalState::Active)
+            }
+            _ => None,
+        };
+        if let Some(new) = new {
+            let what =
+                if matches!(new, NormalState::Active) { "re-activated (gap closed)" } else { "released (tension)" };
+            p.normal_state = new;
+            *flips.entry(k).or_default() += 1;
+            changes.push(format!("{} {what}", multiplier_name(model, &state.interfaces, dofs, k)));
+            if !matches!(state.interfaces[m.interface].faces[m.face].points[m.point].normal_state, NormalState::Active)
+            {
+                state.lambda[k] = 0.0;
+            }
+        }
+    }
+    changes.extend(hold_free_reinforcement_nodes(model, state, dofs, bar_only));
+    changes
+}
+
+/// A reinforcement node with no active normal row (every face open, or the node out of the soil)
+/// keeps its transverse position through one of its rows (held), and gives it back when another row
+/// becomes active. Returns what changed.
+fn hold_free_reinforcement_nodes(model: &Model, state: &mut State, dofs: &DofMap, bar_only: &[bool]) -> Vec<String> {
+    let mut changes = Vec::new();
+    let mut by_slave: HashMap<usize, Vec<usize>> = HashMap::new();
+    for (k, m) in dofs.multipliers.iter().enumerate() {
+        if !m.tangential {
+            let slave = state.interfaces[m.interface].faces[m.face].points[m.point].slave;
+            by_slave.entry(slave).or_default().push(k);
+        }
+    }
+    let mut slaves: Vec<_> = by_slave.into_iter().collect();
+    slaves.sort_by_key(|(s, _)| *s);
+    for (slave, ks) in slaves {
+        if !bar_only[slave] {
+            continue;
+        }
+        let st = |k: usize| {
+            let m = dofs.multipliers[k];
+            state.interfaces[m.interface].faces[m.face].points[m.point].normal_state.clone()
+        };
+        let any_active = ks.iter().any(|&k| matches!(st(k), NormalState::Active | NormalState::Redundant { .. }));
+        let held: Vec<usize> = ks.iter().copied().filter(|&k| matches!(st(k), NormalState::Held { .. })).collect();
+        if !any_active && held.is_empty() {
+            if let Some(&k) = ks.iter().find(|&&k| matches!(st(k), NormalState::Released | NormalState::Outside)) {
+                let m = dofs.multipliers[k];
+                let outside = matches!(st(k), NormalState::Outside);
+                state.interfaces[m.interface].faces[m.face].points[m.point].normal_state =
+                    NormalState::Held { outside };
+                changes.push(format!(
+                    "node {} transverse DOF held ({})",
+                    model.mesh.node_id(slave),
+                    if outside { "it has left the soil" } else { "every face of the reinforcement is open there" }
+                ));
+            }
+        } else if any_active {
+            for k in held {
+                let m = dofs.multipliers[k];
+                let point = &mut state.interfaces[m.interface].faces[m.face].points[m.point];
+                point.normal_state = match point.normal_state {
+                    NormalState::Held { outside: true } => NormalState::Outside,
+                    _ => NormalState::Released,
+                };
+                state.lambda[k] = 0.0;
+            }
+        }
+    }
+    changes
 }
 
 /// The linear system of one equilibrium iteration.
@@ -378,13 +714,20 @@ pub struct IterationSystem {
 }
 
 /// Assemble the system of one iteration from the current state: out-of-balance forces on the free
-/// DOFs, −g on active rows, −λ on the rest.
-pub fn iteration_system(model: &Model, elements: &ElementMatrices, dofs: &DofMap, state: &State) -> IterationSystem {
+/// DOFs, −g on active rows (no transverse motion on held rows), −λ on the rest.
+fn iteration_system(
+    elements: &ElementMatrices,
+    rows: &InterfaceRows,
+    springs: &[SpringResult],
+    spring_stiffness: &[f64],
+    dofs: &DofMap,
+    state: &State,
+) -> IterationSystem {
     let n_dof = state.u.len();
-    let rows = InterfaceRows::new(model, &state.interfaces, dofs);
-    let gaps = row_gaps(&rows, &state.u);
-    let f_int = system::internal_force(elements, &rows, &state.u);
-    let f_c = system::constraint_force(&rows, &state.lambda, n_dof);
+    let gaps = rows.gaps(&state.u);
+    let taus: Vec<f64> = springs.iter().map(|r| r.tau).collect();
+    let f_int = system::internal_force(elements, rows, &taus, &state.u);
+    let f_c = system::constraint_force(rows, &state.lambda, n_dof);
     let mut rhs = vec![0.0; dofs.size()];
     for (d, eq) in dofs.equation.iter().enumerate() {
         if let Some(e) = eq {
@@ -394,14 +737,23 @@ pub fn iteration_system(model: &Model, elements: &ElementMatrices, dofs: &DofMap
     let scale = elements.typical_stiffness();
     let mut active = 0;
     for k in 0..dofs.multipliers.len() {
-        rhs[dofs.multiplier_equation(k)] = if system::multiplier_is_active(&state.interfaces, dofs, k) {
+        let m = dofs.multipliers[k];
+        let held = !m.tangential
+            && matches!(
+                state.interfaces[m.interface].faces[m.face].points[m.point].normal_state,
+                NormalState::Held { .. }
+            );
+        rhs[dofs.multiplier_equation(k)] = if held {
+            active += 1;
+            0.0
+        } else if system::multiplier_is_active(&state.interfaces, dofs, k) {
             active += 1;
             -scale * gaps[k]
         } else {
             -state.lambda[k]
         };
     }
-    let triplets = system::assemble(elements, &rows, &state.interfaces, dofs, scale);
+    let triplets = system::assemble(elements, rows, spring_stiffness, &state.interfaces, dofs, scale);
     IterationSystem { triplets, rhs, scale, active }
 }
 
@@ -427,18 +779,34 @@ pub fn first_system(model: &Model) -> (usize, IterationSystem) {
         u[dof(n, d)] = factor * value;
     }
     let f_ext = external_force(model, &stage.loads).into_iter().map(|f| factor * f).collect();
-    let state = State { u, lambda: vec![0.0; dofs.multipliers.len()], interfaces, f_ext };
-    (dofs.size(), iteration_system(model, &elements, &dofs, &state))
-}
-
-fn row_gaps(rows: &InterfaceRows, u: &[f64]) -> Vec<f64> {
-    rows.constraint_rows.iter().map(|row| row.iter().map(|&(d, c)| c * u[d]).sum()).collect()
+    let state = State {
+        u,
+        lambda: vec![0.0; dofs.multipliers.len()],
+        interfaces,
+        f_ext,
+        u_committed: vec![0.0; dof_count],
+        frozen_sigma_n: None,
+    };
+    let rows = InterfaceRows::new(model, &state.interfaces, &dofs);
+    let springs = evaluate_springs(model, &state, &rows);
+    let stiffness: Vec<f64> = rows
+        .springs
+        .iter()
+        .map(|s| state.interfaces[s.interface].law.shear_stiffness().unwrap_or(0.0) * s.tributary)
+        .collect();
+    (dofs.size(), iteration_system(&elements, &rows, &springs, &stiffness, &dofs, &state))
 }
 
 /// ‖out-of-balance force on the free DOFs‖ and the reference force (applied loads and reactions).
-fn out_of_balance(elements: &ElementMatrices, rows: &InterfaceRows, state: &State, dofs: &DofMap) -> (f64, f64) {
+fn out_of_balance(
+    elements: &ElementMatrices,
+    rows: &InterfaceRows,
+    taus: &[f64],
+    state: &State,
+    dofs: &DofMap,
+) -> (f64, f64) {
     let n_dof = state.u.len();
-    let f_int = system::internal_force(elements, rows, &state.u);
+    let f_int = system::internal_force(elements, rows, taus, &state.u);
     let f_c = system::constraint_force(rows, &state.lambda, n_dof);
     let mut r2 = 0.0;
     let mut reference2 = 0.0;
@@ -454,11 +822,17 @@ fn out_of_balance(elements: &ElementMatrices, rows: &InterfaceRows, state: &Stat
     (r2.sqrt(), reference2.sqrt().max(f64::MIN_POSITIVE))
 }
 
-fn gaps_closed(gaps: &[f64], state: &State, dofs: &DofMap) -> bool {
-    let scale = state.u.iter().fold(0.0f64, |m, v| m.max(v.abs())).max(f64::MIN_POSITIVE);
-    gaps.iter()
-        .enumerate()
-        .all(|(k, g)| !system::multiplier_is_active(&state.interfaces, dofs, k) || g.abs() <= 1e-9 * scale)
+fn gaps_closed(gaps: &[f64], state: &State, dofs: &DofMap, characteristic: f64) -> bool {
+    let scale = state.u.iter().fold(0.0f64, |m, v| m.max(v.abs())).max(1e-6 * characteristic);
+    gaps.iter().enumerate().all(|(k, g)| {
+        let m = dofs.multipliers[k];
+        let held = !m.tangential
+            && matches!(
+                state.interfaces[m.interface].faces[m.face].points[m.point].normal_state,
+                NormalState::Held { .. }
+            );
+        held || !system::multiplier_is_active(&state.interfaces, dofs, k) || g.abs() <= 1e-9 * scale
+    })
 }
 
 /// Name what is unconstrained in a singular system.

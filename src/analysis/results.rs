@@ -4,7 +4,7 @@
 use super::system::{self, ElementMatrices, InterfaceRows};
 use super::State;
 use crate::element::{bar, solid};
-use crate::interface::{NormalState, ShearLaw};
+use crate::interface::ShearLaw;
 use crate::model::Model;
 
 #[derive(Debug, Clone)]
@@ -40,8 +40,10 @@ pub struct InterfacePointResult {
     pub sigma_n: f64,
     /// Shear stress resisting positive slip.
     pub tau: f64,
-    /// Slip along the slave line towards its first node (the pull-out direction).
+    /// Slip along the slave line towards its first node (the pull-out direction), accumulated.
     pub slip: f64,
+    /// The peak strength has been passed.
+    pub post_peak: bool,
 }
 
 #[derive(Debug, Clone)]
@@ -71,12 +73,13 @@ impl StepResults {
         model: &Model,
         elements: &ElementMatrices,
         rows: &InterfaceRows,
+        taus: &[f64],
         state: &State,
         held: &[bool],
     ) -> Self {
         let mesh = &model.mesh;
         let n_dof = state.u.len();
-        let f_int = system::internal_force(elements, rows, &state.u);
+        let f_int = system::internal_force(elements, rows, taus, &state.u);
         let f_c = system::constraint_force(rows, &state.lambda, n_dof);
         let reaction_vector: Vec<f64> =
             (0..n_dof).map(|d| if held[d] { f_int[d] + f_c[d] - state.f_ext[d] } else { 0.0 }).collect();
@@ -114,28 +117,30 @@ impl StepResults {
             })
             .collect();
 
-        // Interface points: multipliers are in dofs::multipliers order.
+        // Interface points: multipliers are in dofs::multipliers order; the springs' τ in theirs.
         let mut interface_points = Vec::new();
         let mut k = 0usize;
+        let mut spring = 0usize;
         for interface in &state.interfaces {
             for face in &interface.faces {
                 for point in &face.points {
                     let lambda = state.lambda[k];
                     k += 1;
-                    let slip: f64 =
-                        system::row_dofs(&face.tangential_row(point)).iter().map(|&(d, c)| c * state.u[d]).sum();
                     let tau = match &interface.law {
                         ShearLaw::Tie => {
                             let lt = state.lambda[k];
                             k += 1;
-                            lt / point.tributary
+                            lt / point.tributary.max(f64::MIN_POSITIVE)
                         }
-                        law => law.shear_stiffness().unwrap_or(0.0) * slip,
+                        _ => {
+                            spring += 1;
+                            taus.get(spring - 1).copied().unwrap_or(0.0)
+                        }
                     };
-                    let state_name = match point.normal_state {
-                        NormalState::Active => "active",
-                        NormalState::Released => "released",
-                        NormalState::Redundant { .. } => "redundant",
+                    let slip = if interface.law.is_tie() {
+                        system::row_dofs(&face.tangential_row(point)).iter().map(|&(d, c)| c * state.u[d]).sum()
+                    } else {
+                        point.shear.slip
                     };
                     interface_points.push(InterfacePointResult {
                         interface: interface.name.clone(),
@@ -147,12 +152,13 @@ impl StepResults {
                             mesh.node_id(face.master[point.segment + 1]),
                         ],
                         xi: point.xi,
-                        state: state_name,
+                        state: point.normal_state.name(),
                         tributary: point.tributary,
                         lambda,
-                        sigma_n: lambda / point.tributary,
+                        sigma_n: if point.tributary > 0.0 { lambda / point.tributary } else { 0.0 },
                         tau,
                         slip,
+                        post_peak: point.shear.post_peak,
                     });
                 }
             }
@@ -180,4 +186,86 @@ impl StepResults {
             displacement_vector: state.u.clone(),
         }
     }
+}
+
+/// The force balance of one reinforcement in one step: the forces applied to its nodes (reactions
+/// of prescribed DOFs and loads) against the forces its interfaces carry (springs and multipliers).
+/// The bars' own forces cancel node by node, so the two must agree.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct ReinforcementBalance {
+    pub interface: String,
+    /// Applied to the reinforcement's nodes (x, y): the pull.
+    pub applied: [f64; 2],
+    /// Carried by its interface faces (x, y).
+    pub interface_force: [f64; 2],
+    /// |applied − interface_force| relative to |applied| (or absolute when nothing is applied).
+    pub mismatch: f64,
+}
+
+/// Check, for every interface whose slave nodes belong to no soil element (a reinforcement), that
+/// the interface forces balance what is applied to it.
+pub fn reinforcement_balance(model: &Model, results: &StepResults, state: &State) -> Vec<ReinforcementBalance> {
+    let mut in_soil = vec![false; model.mesh.nodes.len()];
+    for s in &model.mesh.solids {
+        for &n in &s.nodes {
+            in_soil[n] = true;
+        }
+    }
+    let mut out = Vec::new();
+    let mut k = 0usize;
+    for interface in &state.interfaces {
+        let mut slaves: Vec<usize> = interface.faces.iter().flat_map(|f| f.points.iter().map(|p| p.slave)).collect();
+        slaves.sort_unstable();
+        slaves.dedup();
+        let mut carried = [0.0; 2];
+        for face in &interface.faces {
+            for point in &face.points {
+                let n = face.normal(&model.mesh, point.segment);
+                let lambda = state.lambda[k];
+                k += 1;
+                // the force on the slave node from the row: −λ·n (λ > 0 pushes it off the master)
+                carried[0] -= lambda * n[0];
+                carried[1] -= lambda * n[1];
+                let t = point.tangent;
+                let shear_force = if interface.law.is_tie() {
+                    let lt = state.lambda[k];
+                    k += 1;
+                    lt
+                } else {
+                    let tau = results
+                        .interface_points
+                        .iter()
+                        .find(|r| {
+                            r.interface == interface.name
+                                && r.face == face.label
+                                && r.slave_node == model.mesh.node_id(point.slave)
+                        })
+                        .map(|r| r.tau)
+                        .unwrap_or(0.0);
+                    tau * point.tributary
+                };
+                // the soil resists positive slip: force −τℓ·t on the slave
+                carried[0] -= shear_force * t[0];
+                carried[1] -= shear_force * t[1];
+            }
+        }
+        if slaves.is_empty() || slaves.iter().any(|&n| in_soil[n]) {
+            continue;
+        }
+        let mut applied = [0.0; 2];
+        for &n in &slaves {
+            for d in 0..2 {
+                applied[d] += results.reaction_vector[2 * n + d] + state.f_ext[2 * n + d];
+            }
+        }
+        let diff = ((applied[0] + carried[0]).powi(2) + (applied[1] + carried[1]).powi(2)).sqrt();
+        let size = (applied[0].powi(2) + applied[1].powi(2)).sqrt();
+        out.push(ReinforcementBalance {
+            interface: interface.name.clone(),
+            applied,
+            interface_force: [-carried[0], -carried[1]],
+            mismatch: if size > 0.0 { diff / size } else { diff },
+        });
+    }
+    out
 }

@@ -61,34 +61,79 @@ pub fn row_dofs(row: &Row) -> Vec<(usize, f64)> {
     row.iter().flat_map(|&(n, c)| [(2 * n, c[0]), (2 * n + 1, c[1])]).collect()
 }
 
+/// A tangential spring: one slave point of one face of an interface with a shear stiffness.
+#[derive(Debug, Clone)]
+pub struct Spring {
+    /// Slip s = row · u.
+    pub row: Vec<(usize, f64)>,
+    pub tributary: f64,
+    pub interface: usize,
+    pub face: usize,
+    pub point: usize,
+    /// The multiplier of the point's normal row.
+    pub normal_multiplier: usize,
+}
+
 /// The rows of the multipliers and the springs, for the current association.
 pub struct InterfaceRows {
     /// One per multiplier, in `DofMap::multipliers` order.
     pub constraint_rows: Vec<Vec<(usize, f64)>>,
-    /// Tangential springs: (row, stiffness Ks·ℓ).
-    pub springs: Vec<(Vec<(usize, f64)>, f64)>,
+    /// Reference gap of each multiplier's row (zero for tangential rows).
+    pub gap0: Vec<f64>,
+    pub springs: Vec<Spring>,
 }
 
 impl InterfaceRows {
     pub fn new(model: &Model, interfaces: &[Interface], dofs: &DofMap) -> Self {
         let mut constraint_rows = Vec::with_capacity(dofs.multipliers.len());
-        for m in &dofs.multipliers {
+        let mut gap0 = Vec::with_capacity(dofs.multipliers.len());
+        let mut normal_multiplier = std::collections::HashMap::new();
+        for (k, m) in dofs.multipliers.iter().enumerate() {
             let face = &interfaces[m.interface].faces[m.face];
             let point = &face.points[m.point];
-            let row = if m.tangential { face.tangential_row(point) } else { face.normal_row(&model.mesh, point) };
+            let mut row = if m.tangential {
+                gap0.push(0.0);
+                face.tangential_row(point)
+            } else {
+                normal_multiplier.insert((m.interface, m.face, m.point), k);
+                gap0.push(point.gap0);
+                face.normal_row(&model.mesh, point)
+            };
+            if !m.tangential && matches!(point.normal_state, NormalState::Held { .. }) {
+                // holds the slave node alone: the master entries stay in the pattern as zeros
+                for entry in row.iter_mut().skip(1) {
+                    entry.1 = [0.0, 0.0];
+                }
+            }
             constraint_rows.push(row_dofs(&row));
         }
         let mut springs = Vec::new();
-        for interface in interfaces {
-            if let Some(ks) = interface.law.shear_stiffness() {
-                for face in &interface.faces {
-                    for point in &face.points {
-                        springs.push((row_dofs(&face.tangential_row(point)), ks * point.tributary));
+        for (i, interface) in interfaces.iter().enumerate() {
+            if interface.law.shear_stiffness().is_some() {
+                for (f, face) in interface.faces.iter().enumerate() {
+                    for (p, point) in face.points.iter().enumerate() {
+                        springs.push(Spring {
+                            row: row_dofs(&face.tangential_row(point)),
+                            tributary: point.tributary,
+                            interface: i,
+                            face: f,
+                            point: p,
+                            normal_multiplier: normal_multiplier[&(i, f, p)],
+                        });
                     }
                 }
             }
         }
-        InterfaceRows { constraint_rows, springs }
+        InterfaceRows { constraint_rows, gap0, springs }
+    }
+
+    /// Current gap of every row: g = gap0 + row · u.
+    pub fn gaps(&self, u: &[f64]) -> Vec<f64> {
+        self.constraint_rows
+            .iter()
+            .zip(&self.gap0)
+            .map(|(row, g0)| g0 + row.iter().map(|&(d, c)| c * u[d]).sum::<f64>())
+            .collect()
     }
 }
 
@@ -96,8 +141,12 @@ impl InterfaceRows {
 pub fn multiplier_is_active(interfaces: &[Interface], dofs: &DofMap, k: usize) -> bool {
     let m = dofs.multipliers[k];
     let p = &interfaces[m.interface].faces[m.face].points[m.point];
-    let state = if m.tangential { &p.tangential_state } else { &p.normal_state };
-    matches!(state, NormalState::Active)
+    if m.tangential {
+        // a tie's tangential row holds while its normal row does
+        matches!(p.tangential_state, NormalState::Active) && matches!(p.normal_state, NormalState::Active)
+    } else {
+        matches!(p.normal_state, NormalState::Active | NormalState::Held { .. })
+    }
 }
 
 /// Assemble [K sCᵀ; sC sD] over the free DOFs and the multipliers, in a fixed triplet order.
@@ -108,6 +157,7 @@ pub fn multiplier_is_active(interfaces: &[Interface], dofs: &DofMap, k: usize) -
 pub fn assemble(
     elements: &ElementMatrices,
     rows: &InterfaceRows,
+    spring_stiffness: &[f64],
     interfaces: &[Interface],
     dofs: &DofMap,
     scale: f64,
@@ -124,10 +174,10 @@ pub fn assemble(
             }
         }
     }
-    for (row, k) in &rows.springs {
-        for &(da, ca) in row {
+    for (spring, k) in rows.springs.iter().zip(spring_stiffness) {
+        for &(da, ca) in &spring.row {
             let Some(ia) = eq(da) else { continue };
-            for &(db, cb) in row {
+            for &(db, cb) in &spring.row {
                 if let Some(ib) = eq(db) {
                     t.push(ia, ib, k * ca * cb);
                 }
@@ -149,8 +199,9 @@ pub fn assemble(
     t
 }
 
-/// f_int(u) over all displacement DOFs (elements and springs; the multipliers' Cᵀλ apart).
-pub fn internal_force(elements: &ElementMatrices, rows: &InterfaceRows, u: &[f64]) -> Vec<f64> {
+/// Internal forces over all displacement DOFs: the elements' K_e·u_e plus the springs' τ·ℓ·row (the
+/// multipliers' Cᵀλ apart). `taus` holds each spring's shear stress.
+pub fn internal_force(elements: &ElementMatrices, rows: &InterfaceRows, taus: &[f64], u: &[f64]) -> Vec<f64> {
     let mut f = vec![0.0; u.len()];
     for (dl, k) in &elements.blocks {
         for (a, &da) in dl.iter().enumerate() {
@@ -161,10 +212,9 @@ pub fn internal_force(elements: &ElementMatrices, rows: &InterfaceRows, u: &[f64
             f[da] += s;
         }
     }
-    for (row, k) in &rows.springs {
-        let s: f64 = row.iter().map(|&(d, c)| c * u[d]).sum();
-        for &(d, c) in row {
-            f[d] += k * s * c;
+    for (spring, tau) in rows.springs.iter().zip(taus) {
+        for &(d, c) in &spring.row {
+            f[d] += tau * spring.tributary * c;
         }
     }
     f

@@ -74,6 +74,8 @@ fn points_on(mesh: &Mesh, face_master: &[NodeIndex], slave: &[NodeIndex]) -> Vec
                 xi,
                 normal_state: NormalState::Active,
                 tangential_state: NormalState::Active,
+                gap0: 0.0,
+                shear: Default::default(),
             }
         })
         .collect()

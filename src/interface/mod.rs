@@ -11,33 +11,10 @@
 //! row (it stays in the pattern with a unit diagonal), and re-associate the point as it slides.
 
 pub mod build;
+pub mod law;
 
 use crate::mesh::{Mesh, NodeIndex};
-
-/// Tangential law of every face of an interface, with its parameters checked.
-#[derive(Debug, Clone, PartialEq)]
-pub enum ShearLaw {
-    /// Multipliers in both directions: no slip.
-    Tie,
-    /// τ = Ks·s [stress], Ks per face [stress/length].
-    Linear { shear_stiffness: f64 },
-    /// A law with a strength limit (Coulomb, peak–residual, softening, hyperbolic). The model format
-    /// accepts it; its plastic part belongs to the slip mechanics and is refused at run time.
-    Strength { kind: &'static str, shear_stiffness: f64 },
-}
-
-impl ShearLaw {
-    pub fn is_tie(&self) -> bool {
-        matches!(self, ShearLaw::Tie)
-    }
-
-    pub fn shear_stiffness(&self) -> Option<f64> {
-        match self {
-            ShearLaw::Tie => None,
-            ShearLaw::Linear { shear_stiffness } | ShearLaw::Strength { shear_stiffness, .. } => Some(*shear_stiffness),
-        }
-    }
-}
+pub use law::{ShearLaw, ShearResponse, ShearState};
 
 /// State of a point's normal constraint row.
 #[derive(Debug, Clone, PartialEq)]
@@ -48,7 +25,25 @@ pub enum NormalState {
     Released,
     /// The row repeats another one on the free DOFs (for example both faces of a bar on a fixed,
     /// rigid bed, or both sides held by supports); the force is carried by `carried_by`.
-    Redundant { carried_by: String },
+    Redundant { carried_by: String, multiplier: Option<usize> },
+    /// Released, but holding the transverse position of a reinforcement node whose faces are all
+    /// open, or that has left the soil (a 2-node bar has no transverse stiffness): the row acts on
+    /// the slave node only. `outside` remembers that the point no longer faces the master face.
+    Held { outside: bool },
+    /// The slave point no longer faces the master face (it has been pulled out of the soil).
+    Outside,
+}
+
+impl NormalState {
+    pub fn name(&self) -> &'static str {
+        match self {
+            NormalState::Active => "active",
+            NormalState::Released => "released",
+            NormalState::Redundant { .. } => "redundant",
+            NormalState::Held { .. } => "held",
+            NormalState::Outside => "outside",
+        }
+    }
 }
 
 /// One slave point of one face.
@@ -64,6 +59,18 @@ pub struct ContactPoint {
     pub xi: f64,
     pub normal_state: NormalState,
     pub tangential_state: NormalState,
+    /// Reference gap n·(X_r − Σ N_i X_i) of the current association, so that the gap from current
+    /// positions is g = gap0 + row·u (zero when the point was associated by projection).
+    pub gap0: f64,
+    /// Tangential law history (carried across re-associations).
+    pub shear: ShearState,
+}
+
+impl ContactPoint {
+    /// The point transmits forces (its normal row holds, or another row carries its force).
+    pub fn in_contact(&self) -> bool {
+        matches!(self.normal_state, NormalState::Active | NormalState::Redundant { .. })
+    }
 }
 
 /// One face of an interface: a master path and the slave points pressed against it.

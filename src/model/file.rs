@@ -43,6 +43,59 @@ pub struct ModelFile {
     pub interfaces: Vec<InterfaceSpec>,
     /// The loading history: stages of increments, applied in order.
     pub stages: Vec<Stage>,
+    /// How the nonlinear analysis iterates (every field has a default).
+    #[serde(default)]
+    pub analysis: AnalysisSettings,
+}
+
+/// Settings of the equilibrium iteration.
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields, default)]
+pub struct AnalysisSettings {
+    /// `constant-stiffness` (the paper's Fig. 3: Ks in the matrix, the factorisation reused) or
+    /// `newton` (the law's tangent, symmetric, σn lagged one iteration).
+    pub scheme: Scheme,
+    /// After each increment: `segment` (closest-point projection onto the deformed master face),
+    /// `nearest-node` (the paper's approximation) or `none` (small slip: the pairing never changes).
+    pub reassociation: ReassociationRule,
+    /// Out-of-balance force relative to the applied and reaction forces.
+    pub force_tolerance: f64,
+    /// Displacement correction relative to the increment.
+    pub displacement_tolerance: f64,
+    pub max_iterations: usize,
+    /// How many times a failing increment may be halved.
+    pub max_cutbacks: usize,
+    /// Hold σn at its value at the start of each stage.
+    pub freeze_normal_stress: bool,
+}
+
+impl Default for AnalysisSettings {
+    fn default() -> Self {
+        AnalysisSettings {
+            scheme: Scheme::ConstantStiffness,
+            reassociation: ReassociationRule::Segment,
+            force_tolerance: 1e-9,
+            displacement_tolerance: 1e-9,
+            max_iterations: 300,
+            max_cutbacks: 8,
+            freeze_normal_stress: false,
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "kebab-case")]
+pub enum Scheme {
+    ConstantStiffness,
+    Newton,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "kebab-case")]
+pub enum ReassociationRule {
+    Segment,
+    NearestNode,
+    None,
 }
 
 /// Units stated in the file. geoslip does not convert: every number must be written in these units,

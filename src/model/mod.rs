@@ -28,6 +28,7 @@ pub struct Model {
     pub stages: Vec<StagePlan>,
     /// Things worth knowing that do not stop a run.
     pub notes: Vec<String>,
+    pub analysis: file::AnalysisSettings,
 }
 
 /// A soil element side that carries a traction: element index and local side index.

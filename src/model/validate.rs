@@ -449,6 +449,20 @@ pub(super) fn validate(source: &Path, file: &ModelFile) -> Result<Model, ModelEr
         stages.push(StagePlan { name: s.name.clone(), load_factors: lf.clone(), loads, prescribed });
     }
 
+    let a = &file.analysis;
+    if !(a.force_tolerance.is_finite() && a.force_tolerance > 0.0 && a.force_tolerance < 1.0) {
+        p.push("analysis.force_tolerance", None, format!("must be in (0, 1), found {}", a.force_tolerance));
+    }
+    if !(a.displacement_tolerance.is_finite() && a.displacement_tolerance > 0.0 && a.displacement_tolerance < 1.0) {
+        p.push(
+            "analysis.displacement_tolerance",
+            None,
+            format!("must be in (0, 1), found {}", a.displacement_tolerance),
+        );
+    }
+    if a.max_iterations == 0 {
+        p.push("analysis.max_iterations", None, "must be at least 1");
+    }
     if p.is_empty() {
         check_free_bodies(&mesh, &interfaces, &supports, stages.first(), &mut p);
     }
@@ -465,6 +479,7 @@ pub(super) fn validate(source: &Path, file: &ModelFile) -> Result<Model, ModelEr
             interfaces,
             stages,
             notes,
+            analysis: file.analysis.clone(),
         })
     } else {
         Err(ModelError { file: source.to_path_buf(), problems: p.into_vec() })
@@ -495,61 +510,93 @@ fn target_label(node: Option<u64>, nodes: Option<&[u64]>, set: Option<&str>) -> 
 
 fn shear_law(spec: &ShearLawSpec, field: &str, entity: &str, p: &mut Problems) -> Option<ShearLaw> {
     let before = p.len();
-    let mut positive = |name: &str, v: f64| {
+    let positive = |name: &str, v: f64, p: &mut Problems| {
         if !(v.is_finite() && v > 0.0) {
             p.push(format!("{field}.{name}"), entity, format!("must be a positive number, found {v}"));
         }
     };
-    let (kind, ks) = match spec {
-        ShearLawSpec::Tie => return Some(ShearLaw::Tie),
-        ShearLawSpec::Linear { shear_stiffness } => {
-            positive("shear_stiffness", *shear_stiffness);
-            ("linear", *shear_stiffness)
-        }
-        ShearLawSpec::Coulomb { shear_stiffness, .. } => ("coulomb", *shear_stiffness),
-        ShearLawSpec::PeakResidual { shear_stiffness, .. } => ("peak-residual", *shear_stiffness),
-        ShearLawSpec::Softening { shear_stiffness, softening_slip, .. } => {
-            positive("softening_slip", *softening_slip);
-            ("softening", *shear_stiffness)
-        }
-        ShearLawSpec::Hyperbolic { shear_stiffness, .. } => ("hyperbolic", *shear_stiffness),
-    };
-    if kind != "linear" {
-        positive("shear_stiffness", ks);
-    }
-    let mut non_negative = |name: &str, v: f64| {
+    let non_negative = |name: &str, v: f64, p: &mut Problems| {
         if !(v.is_finite() && v >= 0.0) {
             p.push(format!("{field}.{name}"), entity, format!("must be zero or positive, found {v}"));
         }
     };
-    let angle = |name: &str, v: f64, p: &mut Problems| {
+    let angle = |name: &str, v: f64, p: &mut Problems| -> f64 {
         if !(v.is_finite() && (0.0..90.0).contains(&v)) {
             p.push(format!("{field}.{name}"), entity, format!("must be an angle in degrees within [0, 90), found {v}"));
         }
+        v.to_radians().tan()
     };
-    match spec {
-        ShearLawSpec::Coulomb { cohesion, friction_angle, .. }
-        | ShearLawSpec::Hyperbolic { cohesion, friction_angle, .. } => {
-            non_negative("cohesion", *cohesion);
-            angle("friction_angle", *friction_angle, p);
+    let law = match *spec {
+        ShearLawSpec::Tie => ShearLaw::Tie,
+        ShearLawSpec::Linear { shear_stiffness } => {
+            positive("shear_stiffness", shear_stiffness, p);
+            ShearLaw::Linear { shear_stiffness }
         }
-        ShearLawSpec::PeakResidual { cohesion, friction_angle, residual_cohesion, residual_friction_angle, .. }
-        | ShearLawSpec::Softening { cohesion, friction_angle, residual_cohesion, residual_friction_angle, .. } => {
-            non_negative("cohesion", *cohesion);
-            non_negative("residual_cohesion", *residual_cohesion);
-            angle("friction_angle", *friction_angle, p);
-            angle("residual_friction_angle", *residual_friction_angle, p);
+        ShearLawSpec::Coulomb { shear_stiffness, cohesion, friction_angle } => {
+            positive("shear_stiffness", shear_stiffness, p);
+            non_negative("cohesion", cohesion, p);
+            let tan_friction = angle("friction_angle", friction_angle, p);
+            ShearLaw::Coulomb { shear_stiffness, cohesion, tan_friction }
         }
-        _ => {}
-    }
+        ShearLawSpec::Hyperbolic { shear_stiffness, cohesion, friction_angle } => {
+            positive("shear_stiffness", shear_stiffness, p);
+            non_negative("cohesion", cohesion, p);
+            let tan_friction = angle("friction_angle", friction_angle, p);
+            ShearLaw::Hyperbolic { shear_stiffness, cohesion, tan_friction }
+        }
+        ShearLawSpec::PeakResidual {
+            shear_stiffness,
+            cohesion,
+            friction_angle,
+            residual_cohesion,
+            residual_friction_angle,
+        }
+        | ShearLawSpec::Softening {
+            shear_stiffness,
+            cohesion,
+            friction_angle,
+            residual_cohesion,
+            residual_friction_angle,
+            ..
+        } => {
+            positive("shear_stiffness", shear_stiffness, p);
+            non_negative("cohesion", cohesion, p);
+            non_negative("residual_cohesion", residual_cohesion, p);
+            let tan_friction = angle("friction_angle", friction_angle, p);
+            let residual_tan_friction = angle("residual_friction_angle", residual_friction_angle, p);
+            if residual_cohesion > cohesion || residual_friction_angle > friction_angle {
+                p.push(
+                    field,
+                    entity,
+                    "the residual strength must not exceed the peak: residual_cohesion ≤ cohesion and residual_friction_angle ≤ friction_angle",
+                );
+            }
+            match *spec {
+                ShearLawSpec::Softening { softening_slip, .. } => {
+                    positive("softening_slip", softening_slip, p);
+                    ShearLaw::Softening {
+                        shear_stiffness,
+                        cohesion,
+                        tan_friction,
+                        residual_cohesion,
+                        residual_tan_friction,
+                        softening_slip,
+                    }
+                }
+                _ => ShearLaw::PeakResidual {
+                    shear_stiffness,
+                    cohesion,
+                    tan_friction,
+                    residual_cohesion,
+                    residual_tan_friction,
+                },
+            }
+        }
+    };
     if p.len() > before {
         return None;
     }
-    Some(if kind == "linear" {
-        ShearLaw::Linear { shear_stiffness: ks }
-    } else {
-        ShearLaw::Strength { kind, shear_stiffness: ks }
-    })
+    Some(law)
 }
 
 /// Every connected body (soil, bars and the interfaces that join them) must be held against both

@@ -1,0 +1,206 @@
+//! Large slip: after each converged increment every slave point is associated again with the master
+//! segment it now faces (DESIGN §1, "Large slip: re-association").
+//!
+//! - `segment` (default): closest-point projection of the slave's current position onto the deformed
+//!   master face; the constraint row and the spring are rebuilt with that segment's N_i(ξ), so the
+//!   tie moves smoothly between soil nodes.
+//! - `nearest-node` (the paper's approximation): the same projection, then ξ snapped to the nearer
+//!   end of the segment, so the tie jumps from one soil node to the next.
+//!
+//! The gap is computed from current positions, so the re-association itself causes no jump:
+//! `gap0 = n·(X_r − Σ N_i X_i)` for the new segment makes g = gap0 + row·u equal to the current gap.
+//! A point whose projection falls outside the master face has left the soil and loses contact. The
+//! tributary length of each point is clipped to the part of the slave line that still faces the
+//! master face, so the resistance falls smoothly as the embedded length shrinks. The law state
+//! (slip, plastic slip, post-peak flag) is carried across.
+
+use crate::interface::{ContactFace, Interface, NormalState};
+use crate::mesh::{Mesh, NodeIndex};
+
+/// One point moved to another master segment.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct Reassociation {
+    pub interface: String,
+    pub face: String,
+    pub slave_node: u64,
+    /// Master nodes of the old and the new segment (`None`: out of contact).
+    pub from: Option<[u64; 2]>,
+    pub to: Option<[u64; 2]>,
+    pub xi: f64,
+}
+
+fn current(mesh: &Mesh, u: &[f64], n: NodeIndex) -> [f64; 2] {
+    let x = mesh.position(n);
+    [x[0] + u[2 * n], x[1] + u[2 * n + 1]]
+}
+
+/// Projection of `x` onto the deformed master path: (segment, ξ unclamped on it, arc-length
+/// coordinate along the whole path, extended beyond its ends).
+fn project_current(mesh: &Mesh, u: &[f64], path: &[NodeIndex], x: [f64; 2], keep: Option<usize>) -> (usize, f64, f64) {
+    let seg = |s: usize| (current(mesh, u, path[s]), current(mesh, u, path[s + 1]));
+    let raw_on = |s: usize| {
+        let (a, b) = seg(s);
+        let d = [b[0] - a[0], b[1] - a[1]];
+        let len2 = d[0] * d[0] + d[1] * d[1];
+        (((x[0] - a[0]) * d[0] + (x[1] - a[1]) * d[1]) / len2, len2.sqrt())
+    };
+    let starts: Vec<f64> = {
+        let mut acc = 0.0;
+        let mut v = Vec::with_capacity(path.len());
+        for s in 0..path.len() - 1 {
+            v.push(acc);
+            acc += raw_on(s).1;
+        }
+        v
+    };
+    let tol = 1e-9;
+    // Stay on the current segment while the point is on it (no flip-flop at a shared node).
+    if let Some(s) = keep.filter(|&s| s + 1 < path.len()) {
+        let (raw, len) = raw_on(s);
+        if (-tol..=1.0 + tol).contains(&raw) {
+            return (s, raw.clamp(0.0, 1.0), starts[s] + raw.clamp(0.0, 1.0) * len);
+        }
+    }
+    let mut best = (0usize, 0.0f64, f64::INFINITY, 0.0f64);
+    for s in 0..path.len() - 1 {
+        let (a, b) = seg(s);
+        let (raw, len) = raw_on(s);
+        let xi = raw.clamp(0.0, 1.0);
+        let foot = [a[0] + xi * (b[0] - a[0]), a[1] + xi * (b[1] - a[1])];
+        let dist = ((x[0] - foot[0]).powi(2) + (x[1] - foot[1]).powi(2)).sqrt();
+        // beyond either end of the path, the arc coordinate extends linearly
+        let arc = if (s == 0 && raw < 0.0) || (s + 2 == path.len() && raw > 1.0) {
+            starts[s] + raw * len
+        } else {
+            starts[s] + xi * len
+        };
+        if dist < best.2 - 1e-14 * len {
+            best = (s, raw, dist, arc);
+        }
+    }
+    (best.0, best.1, best.3)
+}
+
+/// Total length of the deformed master path.
+fn path_length(mesh: &Mesh, u: &[f64], path: &[NodeIndex]) -> f64 {
+    path.windows(2)
+        .map(|w| {
+            let (a, b) = (current(mesh, u, w[0]), current(mesh, u, w[1]));
+            ((b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2)).sqrt()
+        })
+        .sum()
+}
+
+/// Re-associate every point of every interface with the master segment it now faces. Returns the
+/// points that moved to another segment (or out of contact).
+pub fn reassociate(mesh: &Mesh, interfaces: &mut [Interface], u: &[f64], nearest_node: bool) -> Vec<Reassociation> {
+    let mut log = Vec::new();
+    for interface in interfaces.iter_mut() {
+        if interface.law.is_tie() {
+            continue; // a tie does not slide
+        }
+        let name = interface.name.clone();
+        for face in interface.faces.iter_mut() {
+            reassociate_face(mesh, &name, face, u, nearest_node, &mut log);
+        }
+    }
+    log
+}
+
+fn reassociate_face(
+    mesh: &Mesh,
+    interface: &str,
+    face: &mut ContactFace,
+    u: &[f64],
+    nearest_node: bool,
+    log: &mut Vec<Reassociation>,
+) {
+    let total = path_length(mesh, u, &face.master);
+    let n_points = face.points.len();
+    // Arc coordinate of each slave point's projection, for clipping the tributary lengths.
+    let mut arcs = Vec::with_capacity(n_points);
+    for k in 0..n_points {
+        let x = current(mesh, u, face.points[k].slave);
+        let keep = face.points[k].in_contact().then_some(face.points[k].segment);
+        let (segment, raw, arc) = project_current(mesh, u, &face.master, x, keep);
+        arcs.push(arc);
+        let outside = arc < -1e-9 * total || arc > total * (1.0 + 1e-9);
+        let point = &mut face.points[k];
+        let from = point
+            .in_contact()
+            .then(|| [mesh.node_id(face.master[point.segment]), mesh.node_id(face.master[point.segment + 1])]);
+        if outside {
+            if !matches!(point.normal_state, NormalState::Outside | NormalState::Held { outside: true }) {
+                point.normal_state = NormalState::Outside;
+                log.push(Reassociation {
+                    interface: interface.to_string(),
+                    face: face.label.clone(),
+                    slave_node: mesh.node_id(point.slave),
+                    from,
+                    to: None,
+                    xi: raw,
+                });
+            }
+            continue;
+        }
+        let mut xi = raw.clamp(0.0, 1.0);
+        if nearest_node {
+            xi = if xi < 0.5 { 0.0 } else { 1.0 };
+        }
+        let moved = segment != point.segment || (nearest_node && xi != point.xi);
+        let was_outside = matches!(point.normal_state, NormalState::Outside | NormalState::Held { outside: true });
+        point.segment = segment;
+        point.xi = xi;
+        if was_outside {
+            point.normal_state = NormalState::Released; // back over the face: contact when the gap closes
+        }
+        if moved || was_outside {
+            log.push(Reassociation {
+                interface: interface.to_string(),
+                face: face.label.clone(),
+                slave_node: mesh.node_id(point.slave),
+                from,
+                to: Some([mesh.node_id(face.master[segment]), mesh.node_id(face.master[segment + 1])]),
+                xi,
+            });
+        }
+    }
+    // Gap offsets for the new associations: g = gap0 + row·u is the current gap.
+    for k in 0..n_points {
+        let p = &face.points[k];
+        let n = face.normal(mesh, p.segment);
+        let (a, b) = (mesh.position(face.master[p.segment]), mesh.position(face.master[p.segment + 1]));
+        let xr = mesh.position(p.slave);
+        let m = [(1.0 - p.xi) * a[0] + p.xi * b[0], (1.0 - p.xi) * a[1] + p.xi * b[1]];
+        face.points[k].gap0 = n[0] * (xr[0] - m[0]) + n[1] * (xr[1] - m[1]);
+    }
+    // Tributary lengths clipped to the part of the slave line that faces the master face.
+    let mut tributary = vec![0.0; n_points];
+    for k in 0..n_points.saturating_sub(1) {
+        let (xa, xb) = (current(mesh, u, face.points[k].slave), current(mesh, u, face.points[k + 1].slave));
+        let length = ((xb[0] - xa[0]).powi(2) + (xb[1] - xa[1]).powi(2)).sqrt();
+        let (sa, sb) = (arcs[k], arcs[k + 1]);
+        // the part of the segment (η from 0 at point k to 1 at point k + 1) whose arc is in [0, total]
+        let (e0, e1) = if (sb - sa).abs() < 1e-15 * total.max(1e-300) {
+            if (0.0..=total).contains(&sa) {
+                (0.0, 1.0)
+            } else {
+                (0.0, 0.0)
+            }
+        } else {
+            let ea = (0.0 - sa) / (sb - sa);
+            let eb = (total - sa) / (sb - sa);
+            let (lo, hi) = (ea.min(eb).clamp(0.0, 1.0), ea.max(eb).clamp(0.0, 1.0));
+            (lo, hi)
+        };
+        let w_far = 0.5 * (e1 * e1 - e0 * e0); // ∫ η dη
+        let w_near = (e1 - e0) - w_far; // ∫ (1 − η) dη
+        tributary[k] += w_near * length;
+        tributary[k + 1] += w_far * length;
+    }
+    for (p, t) in face.points.iter_mut().zip(tributary) {
+        if n_points > 1 {
+            p.tributary = t;
+        }
+    }
+}
