@@ -125,7 +125,7 @@ fn run(path: &std::path::Path, solver: Backend, out: Option<PathBuf>) -> Result<
     let out = out.unwrap_or_else(|| {
         PathBuf::from("results").join(path.file_stem().map(|s| s.to_os_string()).unwrap_or_else(|| "model".into()))
     });
-    let options = RunOptions { backend: solver, ..RunOptions::default() };
+    let options = RunOptions::for_model(&model, solver);
     let mut writer = ResultWriter::new(&model, &out, solver.resolve().name())?;
     for note in &model.notes {
         eprintln!("note: {note}");

@@ -508,6 +508,9 @@ fn equilibrium(
     let mut state_changes = Vec::new();
     let characteristic = model.mesh.characteristic_length();
     for iteration in 1..=options.max_iterations {
+        if options.reassociation != ReassociationRule::None {
+            reassociate::clip_tributaries(&model.mesh, &mut state.interfaces, &state.u);
+        }
         state_changes.extend(hold_free_reinforcement_nodes(model, state, dofs, bar_only));
         let rows = InterfaceRows::new(model, &state.interfaces, dofs);
         let springs = evaluate_springs(model, state, &rows);
@@ -551,6 +554,9 @@ fn equilibrium(
         for k in 0..dofs.multipliers.len() {
             state.lambda[k] += scale * x[dofs.multiplier_equation(k)];
         }
+        if options.reassociation != ReassociationRule::None {
+            reassociate::clip_tributaries(&model.mesh, &mut state.interfaces, &state.u);
+        }
         let rows = InterfaceRows::new(model, &state.interfaces, dofs);
         let springs = evaluate_springs(model, state, &rows);
         let changes = update_active_set(model, state, &rows, dofs, bar_only, characteristic, &mut flips);
@@ -572,8 +578,9 @@ fn equilibrium(
             });
         }
         let gaps = rows.gaps(&state.u);
+        let floor = system::round_off_floor(elements, &state.u);
         if changes.is_empty()
-            && residual <= options.force_tolerance * reference
+            && residual <= (options.force_tolerance * reference).max(floor)
             && gaps_closed(&gaps, state, dofs, characteristic)
             && displacement_ok
         {

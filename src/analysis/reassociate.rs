@@ -174,7 +174,34 @@ fn reassociate_face(
         let m = [(1.0 - p.xi) * a[0] + p.xi * b[0], (1.0 - p.xi) * a[1] + p.xi * b[1]];
         face.points[k].gap0 = n[0] * (xr[0] - m[0]) + n[1] * (xr[1] - m[1]);
     }
-    // Tributary lengths clipped to the part of the slave line that faces the master face.
+    clip_face_tributaries(mesh, face, u, &arcs, total);
+}
+
+/// Clip every tributary length to the part of the slave line that now faces the master face, at the
+/// current displacements (called in every iteration: the embedded length changes as the slave
+/// slides, and the resistance must follow it within the increment, not one increment late).
+pub fn clip_tributaries(mesh: &Mesh, interfaces: &mut [Interface], u: &[f64]) {
+    for interface in interfaces.iter_mut() {
+        if interface.law.is_tie() {
+            continue;
+        }
+        for face in interface.faces.iter_mut() {
+            let total = path_length(mesh, u, &face.master);
+            let arcs: Vec<f64> = face
+                .points
+                .iter()
+                .map(|p| {
+                    let x = current(mesh, u, p.slave);
+                    project_current(mesh, u, &face.master, x, Some(p.segment)).2
+                })
+                .collect();
+            clip_face_tributaries(mesh, face, u, &arcs, total);
+        }
+    }
+}
+
+fn clip_face_tributaries(mesh: &Mesh, face: &mut ContactFace, u: &[f64], arcs: &[f64], total: f64) {
+    let n_points = face.points.len();
     let mut tributary = vec![0.0; n_points];
     for k in 0..n_points.saturating_sub(1) {
         let (xa, xb) = (current(mesh, u, face.points[k].slave), current(mesh, u, face.points[k + 1].slave));

@@ -220,6 +220,21 @@ pub fn internal_force(elements: &ElementMatrices, rows: &InterfaceRows, taus: &[
     f
 }
 
+/// The round-off floor of the out-of-balance force: ‖Σ_e |K_e·u_e|‖ (per DOF, the sum of the
+/// magnitudes of the element forces that cancel there) times a few ε. A residual below it cannot be
+/// reduced by iterating.
+pub fn round_off_floor(elements: &ElementMatrices, u: &[f64]) -> f64 {
+    let mut f = vec![0.0f64; u.len()];
+    for (dl, k) in &elements.blocks {
+        for (a, &da) in dl.iter().enumerate() {
+            for (b, &db) in dl.iter().enumerate() {
+                f[da] += (k[(a, b)] * u[db]).abs();
+            }
+        }
+    }
+    64.0 * f64::EPSILON * f.iter().map(|v| v * v).sum::<f64>().sqrt()
+}
+
 /// Cᵀλ over all displacement DOFs.
 pub fn constraint_force(rows: &InterfaceRows, lambda: &[f64], dof_count: usize) -> Vec<f64> {
     let mut f = vec![0.0; dof_count];

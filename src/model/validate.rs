@@ -641,6 +641,15 @@ fn check_free_bodies(
                 join(&mut parent, pt.slave, f.master[pt.segment]);
                 join(&mut parent, pt.slave, f.master[pt.segment + 1]);
             }
+            // a rigid master face (no soil element) is made of nodes used by the interface alone
+            if f.fixed_normal.is_some() {
+                for &m in &f.master {
+                    used[m] = true;
+                }
+                for w in f.master.windows(2) {
+                    join(&mut parent, w[0], w[1]);
+                }
+            }
         }
     }
     for (i, &u) in used.iter().enumerate() {

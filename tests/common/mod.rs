@@ -1,6 +1,8 @@
 //! Helpers shared by the integration tests.
 #![allow(dead_code)]
 
+pub mod slip;
+
 use geoslip::analysis::{self, Collect, RunOptions};
 use geoslip::linsol::Backend;
 use geoslip::model::file::ModelFile;
@@ -15,7 +17,7 @@ pub fn model(file: &ModelFile, name: &str) -> Model {
 /// Run a model on a backend and keep every step.
 pub fn run(model: &Model, backend: Backend) -> Collect {
     let mut sink = Collect::default();
-    analysis::run(model, &RunOptions { backend, ..RunOptions::default() }, &mut sink).unwrap_or_else(|e| panic!("{e}"));
+    analysis::run(model, &RunOptions::for_model(model, backend), &mut sink).unwrap_or_else(|e| panic!("{e}"));
     sink
 }
 

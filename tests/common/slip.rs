@@ -1,0 +1,67 @@
+//! A reinforcement in a rigid, fixed soil block: the setting of the 1-D closed forms
+//! (shared/reference/closed-forms.md, "assume a rigid surrounding medium").
+#![allow(dead_code)]
+
+use geoslip::meshgen::{support, Block};
+use geoslip::model::file::*;
+use std::collections::BTreeMap;
+
+/// Bar of length `length` through a fixed soil block from x = 0 (head, front face) to x = length,
+/// `elements` bars, pulled at the head by `pull` (towards −x) in `steps` equal increments.
+pub fn bar_in_rigid_soil(
+    length: f64,
+    elements: usize,
+    axial_stiffness: f64,
+    law: ShearLawSpec,
+    pull: f64,
+    steps: usize,
+    reassociation: ReassociationRule,
+) -> ModelFile {
+    let block = Block::new(SolidKind::Quad4, (0.0, -0.1), (length, 0.2), (elements, 2), "bed", 1, 1);
+    let path: Vec<u64> = (0..=elements).map(|i| block.node(i, 1)).collect();
+    let mut node_sets = BTreeMap::new();
+    node_sets.insert("soil".into(), block.nodes.iter().map(|n| n.0).collect());
+    let mut soil = BTreeMap::new();
+    soil.insert("bed".into(), SoilMaterial { youngs_modulus: 1.0e5, poissons_ratio: 0.3, unit_weight: 0.0 });
+    let mut reinforcement = BTreeMap::new();
+    reinforcement
+        .insert("grid".into(), ReinforcementMaterial { axial_stiffness, tension_only: false, rupture_strength: None });
+    ModelFile {
+        title: "reinforcement in rigid soil".into(),
+        units: Units { length: LengthUnit::Metre, force: ForceUnit::Kilonewton },
+        materials: Materials { soil, reinforcement },
+        nodes: block.nodes,
+        elements: block.elements,
+        bars: Vec::new(),
+        node_sets,
+        edge_sets: BTreeMap::new(),
+        supports: vec![support("soil", &[Direction::X, Direction::Y])],
+        interfaces: vec![InterfaceSpec {
+            name: "grid".into(),
+            reinforcement: Some(ReinforcementPath { path, material: "grid".into() }),
+            slave: None,
+            master: None,
+            master_normal: None,
+            law,
+        }],
+        stages: vec![Stage {
+            name: "pull".into(),
+            load_factors: (1..=steps).map(|k| k as f64 / steps as f64).collect(),
+            loads: Vec::new(),
+            prescribed: vec![PrescribedDisplacement {
+                node: None,
+                nodes: None,
+                set: Some("grid.head".into()),
+                ux: Some(-pull),
+                uy: None,
+            }],
+        }],
+        analysis: AnalysisSettings { reassociation, ..AnalysisSettings::default() },
+    }
+}
+
+/// (head displacement, pull-out force) of every step: the force is minus the head's x reaction.
+pub fn pullout_curve(model: &geoslip::model::Model, c: &geoslip::analysis::Collect) -> Vec<(f64, f64)> {
+    let head = model.node_sets["grid.head"][0];
+    c.steps.iter().map(|(_, r)| (-r.displacement_vector[2 * head], -r.reaction_vector[2 * head])).collect()
+}
