@@ -117,15 +117,24 @@ fn reassociate_face(
 ) {
     let total = path_length(mesh, u, &face.master);
     let n_points = face.points.len();
-    // Arc coordinate of each slave point's projection, for clipping the tributary lengths.
-    let mut arcs = Vec::with_capacity(n_points);
+    // Project every slave point on the deformed master face.
+    let projections: Vec<(usize, f64, f64)> = face
+        .points
+        .iter()
+        .map(|p| {
+            let keep = p.in_contact().then_some(p.segment);
+            project_current(mesh, u, &face.master, current(mesh, u, p.slave), keep)
+        })
+        .collect();
+    let arcs: Vec<f64> = projections.iter().map(|p| p.2).collect();
+    // Tributary lengths clipped to what still faces the master face; a point keeps contact while
+    // some of its tributary length does (it is then the integration point of that remainder).
+    clip_face_tributaries(mesh, face, u, &arcs, total);
     for k in 0..n_points {
-        let x = current(mesh, u, face.points[k].slave);
-        let keep = face.points[k].in_contact().then_some(face.points[k].segment);
-        let (segment, raw, arc) = project_current(mesh, u, &face.master, x, keep);
-        arcs.push(arc);
-        let outside = arc < -1e-9 * total || arc > total * (1.0 + 1e-9);
+        let (segment, raw, arc) = projections[k];
+        let beyond = arc < -1e-9 * total || arc > total * (1.0 + 1e-9);
         let point = &mut face.points[k];
+        let outside = beyond && point.tributary <= 1e-12 * total;
         let from = point
             .in_contact()
             .then(|| [mesh.node_id(face.master[point.segment]), mesh.node_id(face.master[point.segment + 1])]);
@@ -174,7 +183,6 @@ fn reassociate_face(
         let m = [(1.0 - p.xi) * a[0] + p.xi * b[0], (1.0 - p.xi) * a[1] + p.xi * b[1]];
         face.points[k].gap0 = n[0] * (xr[0] - m[0]) + n[1] * (xr[1] - m[1]);
     }
-    clip_face_tributaries(mesh, face, u, &arcs, total);
 }
 
 /// Clip every tributary length to the part of the slave line that now faces the master face, at the

@@ -1,0 +1,103 @@
+//! A soil block sliding on a rigid base (the Coulomb block).
+//!
+//! Reference: shared/reference/closed-forms.md §4: with the tangential displacement d applied to
+//! every node of the block, the base shear is F = min(Ks·A·d, c·A + μ·N), with A the contact length
+//! (per metre width), N the normal force and μ = tan φ.
+//!
+//! Parameters: a 1 m × 0.5 m quad4 block (4 × 2 elements), E = 10 MPa, ν = 0.3, weightless; a
+//! surcharge q = 10 kPa on top (N = 10 kN/m); base interface Coulomb with Ks = 1000 kN/m³,
+//! c = 1 kPa, φ = 30°; the base is a rigid master face (its nodes fixed, `master_normal` pointing
+//! down into it). Goal: exact (to solver precision) before and after sliding.
+//!
+//! ```text
+//!               q q q q q
+//!             +----+----+----+----+   → d on every node
+//!             |                   |
+//!             +----+----+----+----+   slave: the block's base
+//!   o====o====o====o====o====o====o====o====o   master: rigid base (fixed nodes), longer than the block
+//! ```
+
+mod common;
+
+use geoslip::linsol::Backend;
+use geoslip::meshgen::Block;
+use geoslip::model::file::*;
+use std::collections::BTreeMap;
+
+const KS: f64 = 1000.0;
+const C: f64 = 1.0;
+const Q: f64 = 10.0;
+
+fn block_on_base(d: f64) -> ModelFile {
+    let block = Block::new(SolidKind::Quad4, (0.0, 0.0), (1.0, 0.5), (4, 2), "soil", 1, 1);
+    let mut nodes = block.nodes.clone();
+    // the base runs from x = −0.5 to 1.5, so that the block stays on it as it slides
+    let base: Vec<u64> = (0..=8).map(|i| 100 + i as u64).collect();
+    for (i, id) in base.iter().enumerate() {
+        nodes.push(NodeRow(*id, -0.5 + 0.25 * i as f64, 0.0));
+    }
+    let mut node_sets = BTreeMap::new();
+    node_sets.insert("block".into(), block.nodes.iter().map(|n| n.0).collect());
+    node_sets.insert("base".into(), base.clone());
+    let mut edge_sets = BTreeMap::new();
+    edge_sets.insert("top".into(), block.row_edges(2));
+    let mut soil = BTreeMap::new();
+    soil.insert("soil".into(), SoilMaterial { youngs_modulus: 1.0e4, poissons_ratio: 0.3, unit_weight: 0.0 });
+    let on_block =
+        |ux: f64| PrescribedDisplacement { node: None, nodes: None, set: Some("block".into()), ux: Some(ux), uy: None };
+    ModelFile {
+        title: "Coulomb block".into(),
+        units: Units { length: LengthUnit::Metre, force: ForceUnit::Kilonewton },
+        materials: Materials { soil, reinforcement: BTreeMap::new() },
+        nodes,
+        elements: block.elements.clone(),
+        bars: Vec::new(),
+        node_sets,
+        edge_sets,
+        supports: vec![geoslip::meshgen::support("base", &[Direction::X, Direction::Y])],
+        interfaces: vec![InterfaceSpec {
+            name: "base".into(),
+            reinforcement: None,
+            slave: Some(block.row_nodes(0)),
+            master: Some(base),
+            master_normal: Some([0.0, -1.0]),
+            law: ShearLawSpec::Coulomb { shear_stiffness: KS, cohesion: C, friction_angle: 30.0 },
+        }],
+        stages: vec![
+            Stage {
+                name: "surcharge".into(),
+                load_factors: vec![1.0],
+                loads: vec![LoadSpec::EdgeTraction { edge_set: "top".into(), pressure: Q, shear: 0.0 }],
+                prescribed: vec![on_block(0.0)],
+            },
+            Stage {
+                name: "shear".into(),
+                load_factors: vec![0.25, 0.5, 0.75, 1.0],
+                loads: Vec::new(),
+                prescribed: vec![on_block(d)],
+            },
+        ],
+        analysis: AnalysisSettings::default(),
+    }
+}
+
+fn base_shear(d: f64, backend: Backend) -> f64 {
+    let model = common::model(&block_on_base(d), "coulomb-block.toml");
+    let c = common::run(&model, backend);
+    let r = c.last().unwrap();
+    let block = &model.node_sets["block"];
+    // the force that drives the block equals the base shear
+    block.iter().map(|&n| r.reaction_vector[2 * n]).sum()
+}
+
+#[test]
+fn base_shear_is_min_of_elastic_and_coulomb() {
+    let strength = C * 1.0 + (30f64).to_radians().tan() * Q * 1.0;
+    for backend in Backend::available() {
+        for d in [0.002, 0.02, 0.05] {
+            let exact = (KS * 1.0 * d).min(strength);
+            let f = base_shear(d, backend);
+            assert!((f - exact).abs() < 1e-9 * exact, "{backend:?}, d = {d}: F = {f}, expected {exact}");
+        }
+    }
+}
