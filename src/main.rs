@@ -137,6 +137,9 @@ fn run(path: &std::path::Path, solver: Backend, out: Option<PathBuf>) -> Result<
             for w in &stats.warnings {
                 eprintln!("warning: {w}");
             }
+            for e in &writer.summary.events {
+                println!("{e}");
+            }
             writer.finish(None, Some(stats), seconds)?;
             let s = &writer.summary;
             println!(

@@ -128,6 +128,8 @@ pub struct StepRecord {
     pub reassociations: Vec<reassociate::Reassociation>,
     /// Points now sliding at their strength.
     pub sliding_points: usize,
+    /// Points with a tangential law that are in contact.
+    pub contact_points: usize,
     /// Force balance of every reinforcement: what is applied to its nodes against what its interfaces
     /// carry.
     pub balance: Vec<results::ReinforcementBalance>,
@@ -247,6 +249,11 @@ pub fn run(model: &Model, options: &RunOptions, sink: &mut dyn StepSink) -> Resu
                 state_changes: report.state_changes,
                 reassociations,
                 sliding_points: report.springs.iter().filter(|r| r.sliding).count(),
+                contact_points: report
+                    .springs
+                    .iter()
+                    .filter(|r| state.interfaces[r.interface].faces[r.face].points[r.point].in_contact())
+                    .count(),
                 balance,
             };
             sink.step_done(&results, &record, &system.stats)?;
@@ -507,6 +514,7 @@ fn equilibrium(
     let mut flips: HashMap<usize, usize> = HashMap::new();
     let mut state_changes = Vec::new();
     let characteristic = model.mesh.characteristic_length();
+    let mut kept_stiffness: Option<(Vec<bool>, Vec<f64>)> = None;
     for iteration in 1..=options.max_iterations {
         if options.reassociation != ReassociationRule::None {
             reassociate::clip_tributaries(&model.mesh, &mut state.interfaces, &state.u);
@@ -514,25 +522,39 @@ fn equilibrium(
         state_changes.extend(hold_free_reinforcement_nodes(model, state, dofs, bar_only));
         let rows = InterfaceRows::new(model, &state.interfaces, dofs);
         let springs = evaluate_springs(model, state, &rows);
-        let stiffness: Vec<f64> = rows
+        // Constant stiffness (the paper's Fig. 3): Ks·ℓ as the increment found it, kept while the
+        // contact states stay, so the factorisation is reused and each iteration costs one solve.
+        // Newton: the law's tangent at the current iterate.
+        let contact: Vec<bool> = rows
             .springs
             .iter()
-            .zip(&springs)
-            .map(|(s, r)| {
-                let p = &state.interfaces[s.interface].faces[s.face].points[s.point];
-                if !p.in_contact() {
-                    return 0.0;
-                }
-                let ks = state.interfaces[s.interface].law.shear_stiffness().unwrap_or(0.0);
-                let k = match options.scheme {
-                    Scheme::ConstantStiffness => ks,
-                    Scheme::Newton => r.response.tangent.max(0.0),
-                };
-                k * s.tributary
-            })
+            .map(|s| state.interfaces[s.interface].faces[s.face].points[s.point].in_contact())
             .collect();
+        let keep =
+            options.scheme == Scheme::ConstantStiffness && kept_stiffness.as_ref().is_some_and(|(c, _)| *c == contact);
+        if !keep {
+            let stiffness: Vec<f64> = rows
+                .springs
+                .iter()
+                .zip(&springs)
+                .zip(&contact)
+                .map(|((s, r), &in_contact)| {
+                    if !in_contact {
+                        return 0.0;
+                    }
+                    let ks = state.interfaces[s.interface].law.shear_stiffness().unwrap_or(0.0);
+                    let k = match options.scheme {
+                        Scheme::ConstantStiffness => ks,
+                        Scheme::Newton => r.response.tangent.max(0.0),
+                    };
+                    k * s.tributary
+                })
+                .collect();
+            kept_stiffness = Some((contact, stiffness));
+        }
+        let stiffness = &kept_stiffness.as_ref().expect("set above").1;
         let IterationSystem { triplets, rhs, scale, active } =
-            iteration_system(elements, &rows, &springs, &stiffness, dofs, state);
+            iteration_system(elements, &rows, &springs, stiffness, dofs, state);
         let (x, lin_res) = match system.solve(dofs.size(), &triplets, &rhs, active) {
             Ok(v) => v,
             Err(Failure::Singular { equations }) => {

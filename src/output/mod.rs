@@ -56,6 +56,10 @@ pub struct ResultWriter {
     units: UnitLabels,
     targets: Vec<Target>,
     history: Vec<Vec<String>>,
+    /// Largest |reaction| so far per target, and whether a drop from it was reported.
+    peak_reaction: Vec<(f64, bool)>,
+    slip_started: bool,
+    all_sliding: bool,
     pub summary: RunSummary,
 }
 
@@ -72,6 +76,9 @@ pub struct RunSummary {
     pub units: serde_json::Value,
     pub unknowns: Unknowns,
     pub notes: Vec<String>,
+    /// What happened along the way: slip starting, the whole interface sliding, a drop of a
+    /// prescribed target's reaction (softening, snap-back under displacement control, pull-out).
+    pub events: Vec<String>,
     pub steps: Vec<StepRecord>,
     pub solver_stats: SolverStats,
     pub total_seconds: f64,
@@ -106,8 +113,11 @@ impl ResultWriter {
         let units = model.unit_labels();
         Ok(ResultWriter {
             out: out.to_path_buf(),
+            peak_reaction: vec![(0.0, false); targets.len()],
             targets,
             history: Vec::new(),
+            slip_started: false,
+            all_sliding: false,
             summary: RunSummary {
                 geoslip_version: env!("CARGO_PKG_VERSION"),
                 model: model.source.display().to_string(),
@@ -125,6 +135,7 @@ impl ResultWriter {
                     interface_points: model.interfaces.iter().flat_map(|i| &i.faces).map(|f| f.points.len()).sum(),
                 },
                 notes: model.notes.clone(),
+                events: Vec::new(),
                 steps: Vec::new(),
                 solver_stats: SolverStats::default(),
                 total_seconds: 0.0,
@@ -275,10 +286,35 @@ impl StepSink for ResultWriter {
     fn step_done(&mut self, results: &StepResults, record: &StepRecord, stats: &SolverStats) -> Result<(), Error> {
         let dir = self.step_dir(record);
         self.write_step_files(&dir, results)?;
-        for t in &self.targets {
+        let when = format!("stage \"{}\" step {} (load factor {:.4})", record.stage, record.step, record.load_factor);
+        if !self.slip_started && record.sliding_points > 0 {
+            self.slip_started = true;
+            self.summary
+                .events
+                .push(format!("{when}: slip starts ({} interface points at their strength)", record.sliding_points));
+        }
+        if !self.all_sliding && record.contact_points > 0 && record.sliding_points == record.contact_points {
+            self.all_sliding = true;
+            self.summary.events.push(format!("{when}: every interface point in contact slides"));
+        }
+        for (ti, t) in self.targets.iter().enumerate() {
             let d = |n: usize| 2 * n + if t.direction == Direction::X { 0 } else { 1 };
             let mean_u = t.nodes.iter().map(|&n| results.displacement_vector[d(n)]).sum::<f64>() / t.nodes.len() as f64;
             let reaction: f64 = t.nodes.iter().map(|&n| results.reaction_vector[d(n)]).sum();
+            let (peak, reported) = self.peak_reaction[ti];
+            if peak > 0.0 && !reported && reaction.abs() < 0.98 * peak {
+                self.summary.events.push(format!(
+                    "{when}: the reaction on {} ({}) fell to {:.4} from its peak {:.4} at displacement {:.5}",
+                    t.label,
+                    if t.direction == Direction::X { "x" } else { "y" },
+                    reaction.abs(),
+                    peak,
+                    mean_u
+                ));
+                self.peak_reaction[ti].1 = true; // once per peak
+            } else if reaction.abs() > peak {
+                self.peak_reaction[ti] = (reaction.abs(), false);
+            }
             self.history.push(vec![
                 record.stage.clone(),
                 record.step.to_string(),
