@@ -52,7 +52,7 @@ fn run_writes_every_result_file_with_units_in_the_headers() {
             assert_eq!(text.lines().next().unwrap(), header, "{file}");
         }
         let interface = std::fs::read_to_string(step.join("interface.csv")).unwrap();
-        for line in interface.lines().skip(1) {
+        for line in interface.lines().skip(1).filter(|l| l.starts_with("grid,")) {
             let sigma_n: f64 = line.split(',').nth(11).unwrap().parse().unwrap();
             assert!((sigma_n - 23.8).abs() < 1e-9, "{line}");
         }

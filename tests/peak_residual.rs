@@ -40,6 +40,6 @@ fn peak_and_residual_pullout_forces_match_the_closed_form() {
         let (_, last) = *curve.last().unwrap();
         let residual = nf * tr * l;
         assert!((last - residual).abs() < 1e-8 * residual, "{backend:?}: residual {last} vs {residual}");
-        assert!(c.last().unwrap().interface_points.iter().all(|p| p.post_peak));
+        assert!(c.last().unwrap().interface_points.iter().filter(|p| p.face != "slit").all(|p| p.post_peak));
     }
 }

@@ -59,7 +59,7 @@ fn slip_front_positions_and_the_ultimate_pull_match_the_closed_form() {
         assert!((p_num - NF * TAU * 1.0).abs() < 1e-8 * NF * TAU, "{backend:?}: P_ult = {p_num}");
         // every point slides at the strength, and the forces balance the pull at every step
         let (rec, last) = c.steps.last().unwrap();
-        assert!(last.interface_points.iter().all(|p| (p.tau - TAU).abs() < 1e-9));
+        assert!(last.interface_points.iter().filter(|p| p.face != "slit").all(|p| (p.tau - TAU).abs() < 1e-9));
         for (rec, _) in &c.steps {
             for b in &rec.balance {
                 assert!(b.mismatch < 1e-8, "{backend:?}: balance {b:?}");

@@ -225,7 +225,7 @@ pub fn run(model: &Model, options: &RunOptions, sink: &mut dyn StepSink) -> Resu
             let taus: Vec<f64> = report.springs.iter().map(|r| r.tau).collect();
             let results = StepResults::compute(model, &elements, &rows, &taus, &state, &held);
             let balance = results::reinforcement_balance(model, &results, &state);
-            let reassociations = match options.reassociation {
+            let mut reassociations = match options.reassociation {
                 ReassociationRule::None => Vec::new(),
                 rule => reassociate::reassociate(
                     &model.mesh,
@@ -234,6 +234,9 @@ pub fn run(model: &Model, options: &RunOptions, sink: &mut dyn StepSink) -> Resu
                     rule == ReassociationRule::NearestNode,
                 ),
             };
+            if options.reassociation != ReassociationRule::None {
+                reassociations.extend(reassociate::uncover_slits(&model.mesh, &mut state.interfaces, &state.u));
+            }
             state.u_committed = state.u.clone();
             let record = StepRecord {
                 stage: stage.name.clone(),
@@ -340,6 +343,17 @@ fn mark_redundant_rows(model: &Model, interfaces: &mut [Interface], dofs: &DofMa
     let mut report = Vec::new();
     for (k, row) in rows.constraint_rows.iter().enumerate() {
         let m = dofs.multipliers[k];
+        let current = {
+            let p = &interfaces[m.interface].faces[m.face].points[m.point];
+            if m.tangential {
+                &p.tangential_state
+            } else {
+                &p.normal_state
+            }
+        };
+        if !matches!(current, NormalState::Active | NormalState::Redundant { .. }) {
+            continue; // released, held, covered or outside rows carry nothing to repeat
+        }
         let mut free: Vec<(usize, f64)> = row
             .iter()
             .filter_map(|&(d, c)| dofs.equation[d].map(|e| (e, c)))
@@ -634,6 +648,9 @@ fn multiplier_name(model: &Model, interfaces: &[Interface], dofs: &DofMap, k: us
     format!("interface \"{}\" {} face at node {}", i.name, f.label, model.mesh.node_id(f.points[m.point].slave))
 }
 
+/// How many state changes of one point an increment allows before the point is kept in contact.
+const CHATTER_LIMIT: usize = 4;
+
 /// Release rows whose λ turned tensile, re-activate released rows whose gap closed, and hold the
 /// transverse DOF of a reinforcement node whose faces are all open (a 2-node bar has no transverse
 /// stiffness). Returns what changed.
@@ -650,16 +667,19 @@ fn update_active_set(
     let lambda_scale = state.lambda.iter().fold(0.0f64, |m, l| m.max(l.abs())).max(f64::MIN_POSITIVE);
     // Hysteresis bands: a row is released only when clearly tensile, re-activated only when the
     // faces clearly overlap, so states do not ping-pong on round-off.
-    let release_below = -1e-6 * lambda_scale;
-    let close_above = 1e-9 * characteristic;
+    let release_below = -1e-4 * lambda_scale;
+    let close_above = 1e-6 * characteristic;
     let mut changes = Vec::new();
     for (k, m) in dofs.multipliers.iter().enumerate() {
         if m.tangential || state.interfaces[m.interface].law.is_tie() {
             continue;
         }
         let p = &mut state.interfaces[m.interface].faces[m.face].points[m.point];
+        // A point that has already switched CHATTER_LIMIT times in this increment stays in contact:
+        // its λ is then slightly tensile at most, and it is reported.
+        let locked = flips.get(&k).is_some_and(|&n| n >= CHATTER_LIMIT);
         let new = match p.normal_state {
-            NormalState::Active if state.lambda[k] < release_below => Some(NormalState::Released),
+            NormalState::Active if state.lambda[k] < release_below && !locked => Some(NormalState::Released),
             NormalState::Released | NormalState::Held { outside: false } if gaps[k] > close_above => {
                 Some(NormalState::Active)
             }

@@ -239,3 +239,50 @@ fn clip_face_tributaries(mesh: &Mesh, face: &mut ContactFace, u: &[f64], arcs: &
         }
     }
 }
+
+/// Uncover the slit behind each reinforcement's tail: slit points the tail has slid past become
+/// ordinary (released) soil-to-soil contact points, which close as soon as the faces overlap.
+/// Returns the points uncovered.
+pub fn uncover_slits(mesh: &Mesh, interfaces: &mut [Interface], u: &[f64]) -> Vec<Reassociation> {
+    let mut tails = Vec::new();
+    for (i, slit) in interfaces.iter().enumerate() {
+        let Some(r) = slit.slit_of else { continue };
+        let Some(tail) = interfaces[r].faces.first().and_then(|f| f.points.last()).map(|p| p.slave) else { continue };
+        let face = &slit.faces[0];
+        let (_, _, tail_arc) = project_current(mesh, u, &face.master, current(mesh, u, tail), None);
+        tails.push((i, tail_arc, path_length(mesh, u, &face.master)));
+    }
+    let mut log = Vec::new();
+    for (i, tail_arc, total) in tails {
+        let name = interfaces[i].name.clone();
+        let face = &mut interfaces[i].faces[0];
+        for k in 0..face.points.len() {
+            if !matches!(face.points[k].normal_state, NormalState::Covered) {
+                continue;
+            }
+            let x = current(mesh, u, face.points[k].slave);
+            let (segment, raw, arc) = project_current(mesh, u, &face.master, x, Some(face.points[k].segment));
+            if arc > tail_arc + 1e-9 * total {
+                let p = &mut face.points[k];
+                p.normal_state = NormalState::Released;
+                p.segment = segment;
+                p.xi = raw.clamp(0.0, 1.0);
+                let n = face.normal(mesh, segment);
+                let (a, b) = (mesh.position(face.master[segment]), mesh.position(face.master[segment + 1]));
+                let xr = mesh.position(face.points[k].slave);
+                let xi = face.points[k].xi;
+                let m = [(1.0 - xi) * a[0] + xi * b[0], (1.0 - xi) * a[1] + xi * b[1]];
+                face.points[k].gap0 = n[0] * (xr[0] - m[0]) + n[1] * (xr[1] - m[1]);
+                log.push(Reassociation {
+                    interface: name.clone(),
+                    face: "slit".into(),
+                    slave_node: mesh.node_id(face.points[k].slave),
+                    from: None,
+                    to: Some([mesh.node_id(face.master[segment]), mesh.node_id(face.master[segment + 1])]),
+                    xi,
+                });
+            }
+        }
+    }
+    log
+}

@@ -80,6 +80,9 @@ pub struct InterfaceRows {
     pub constraint_rows: Vec<Vec<(usize, f64)>>,
     /// Reference gap of each multiplier's row (zero for tangential rows).
     pub gap0: Vec<f64>,
+    /// The full normal row of a held point (its constraint row acts on the slave alone, but its gap
+    /// is still measured to the master face).
+    held_rows: Vec<Option<Vec<(usize, f64)>>>,
     pub springs: Vec<Spring>,
 }
 
@@ -87,6 +90,7 @@ impl InterfaceRows {
     pub fn new(model: &Model, interfaces: &[Interface], dofs: &DofMap) -> Self {
         let mut constraint_rows = Vec::with_capacity(dofs.multipliers.len());
         let mut gap0 = Vec::with_capacity(dofs.multipliers.len());
+        let mut held_rows = Vec::with_capacity(dofs.multipliers.len());
         let mut normal_multiplier = std::collections::HashMap::new();
         for (k, m) in dofs.multipliers.iter().enumerate() {
             let face = &interfaces[m.interface].faces[m.face];
@@ -100,10 +104,13 @@ impl InterfaceRows {
                 face.normal_row(&model.mesh, point)
             };
             if !m.tangential && matches!(point.normal_state, NormalState::Held { .. }) {
+                held_rows.push(Some(row_dofs(&row)));
                 // holds the slave node alone: the master entries stay in the pattern as zeros
                 for entry in row.iter_mut().skip(1) {
                     entry.1 = [0.0, 0.0];
                 }
+            } else {
+                held_rows.push(None);
             }
             constraint_rows.push(row_dofs(&row));
         }
@@ -124,15 +131,16 @@ impl InterfaceRows {
                 }
             }
         }
-        InterfaceRows { constraint_rows, gap0, springs }
+        InterfaceRows { constraint_rows, gap0, held_rows, springs }
     }
 
     /// Current gap of every row: g = gap0 + row · u.
     pub fn gaps(&self, u: &[f64]) -> Vec<f64> {
         self.constraint_rows
             .iter()
+            .zip(&self.held_rows)
             .zip(&self.gap0)
-            .map(|(row, g0)| g0 + row.iter().map(|&(d, c)| c * u[d]).sum::<f64>())
+            .map(|((row, held), g0)| g0 + held.as_ref().unwrap_or(row).iter().map(|&(d, c)| c * u[d]).sum::<f64>())
             .collect()
     }
 }

@@ -13,6 +13,8 @@ pub struct SplitRecord {
     pub twins: HashMap<NodeIndex, NodeIndex>,
     /// Named node sets created: `<name>.head`, `<name>.tail`, `<name>.reinforcement`.
     pub node_sets: Vec<(String, Vec<NodeIndex>)>,
+    /// The slit behind the reinforcement, a soil-to-soil contact uncovered as the reinforcement slides.
+    pub slit: Option<Interface>,
 }
 
 fn sub(a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
@@ -248,10 +250,32 @@ pub fn split_reinforcement(
     if !left_is_upper {
         faces.swap(0, 1);
     }
+    // The slit: the right side's doubled nodes against the left side's face. The reinforcement fills
+    // it now; behind a sliding tail its two soil faces must not pass through each other.
+    let slit_slaves: Vec<NodeIndex> = path.iter().filter_map(|p| record.twins.get(p).copied()).collect();
+    let slit = (slit_slaves.len() >= 2).then(|| {
+        let mut points = points_on(mesh, &path, &slit_slaves);
+        for p in points.iter_mut() {
+            p.normal_state = NormalState::Covered;
+        }
+        Interface {
+            name: format!("{name}.slit"),
+            law: law.clone(),
+            faces: vec![ContactFace {
+                label: "slit".into(),
+                points,
+                master: path.clone(),
+                soil_on_left: true,
+                fixed_normal: None,
+            }],
+            slit_of: None, // set by the caller, which knows the reinforcement's index
+        }
+    });
     record.node_sets.push((format!("{name}.head"), vec![bar_nodes[0]]));
     record.node_sets.push((format!("{name}.tail"), vec![bar_nodes[tail]]));
     record.node_sets.push((format!("{name}.reinforcement"), bar_nodes));
-    Some((Interface { name: name.to_string(), law, faces }, record))
+    record.slit = slit;
+    Some((Interface { name: name.to_string(), law, faces, slit_of: None }, record))
 }
 
 /// Associate a hand-made slave line with its master face.
@@ -415,5 +439,5 @@ pub fn pair(
     if problems.len() > before {
         return None;
     }
-    Some(Interface { name: name.to_string(), law, faces: vec![face] })
+    Some(Interface { name: name.to_string(), law, faces: vec![face], slit_of: None })
 }

@@ -32,6 +32,9 @@ pub enum NormalState {
     Held { outside: bool },
     /// The slave point no longer faces the master face (it has been pulled out of the soil).
     Outside,
+    /// A point of the slit behind a reinforcement, still filled by the reinforcement: no contact
+    /// until the reinforcement's tail has slid past it.
+    Covered,
 }
 
 impl NormalState {
@@ -42,6 +45,7 @@ impl NormalState {
             NormalState::Redundant { .. } => "redundant",
             NormalState::Held { .. } => "held",
             NormalState::Outside => "outside",
+            NormalState::Covered => "covered",
         }
     }
 }
@@ -91,6 +95,9 @@ pub struct Interface {
     pub name: String,
     pub law: ShearLaw,
     pub faces: Vec<ContactFace>,
+    /// For the slit that a reinforcement leaves behind its tail as it slides: the index of that
+    /// reinforcement's interface. The slit's two soil faces come into contact as they are uncovered.
+    pub slit_of: Option<usize>,
 }
 
 /// A row over displacement DOFs: `(node, [coefficient on ux, coefficient on uy])`.

@@ -274,7 +274,12 @@ pub(super) fn validate(source: &Path, file: &ModelFile) -> Result<Model, ModelEr
                     for (name, set) in record.node_sets {
                         node_sets.insert(name, set);
                     }
+                    let index = interfaces.len();
                     interfaces.push(interface);
+                    if let Some(mut slit) = record.slit {
+                        slit.slit_of = Some(index);
+                        interfaces.push(slit);
+                    }
                 }
             }
             (None, Some(slave), Some(master)) => {
