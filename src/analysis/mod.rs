@@ -149,6 +149,8 @@ pub struct State {
     pub u_committed: Vec<f64>,
     /// σn per spring frozen at the start of the stage (when asked for).
     pub frozen_sigma_n: Option<Vec<f64>>,
+    /// Bars (in mesh order) that have ruptured.
+    pub ruptured: Vec<bool>,
 }
 
 /// Run every stage of a model.
@@ -172,6 +174,7 @@ pub fn run(model: &Model, options: &RunOptions, sink: &mut dyn StepSink) -> Resu
         f_ext: vec![0.0; dof_count],
         u_committed: vec![0.0; dof_count],
         frozen_sigma_n: None,
+        ruptured: vec![false; model.mesh.bars.len()],
     };
     let bar_only = bar_only_nodes(model);
     let mut held = vec![false; dof_count];
@@ -595,7 +598,8 @@ fn equilibrium(
         }
         let rows = InterfaceRows::new(model, &state.interfaces, dofs);
         let springs = evaluate_springs(model, state, &rows);
-        let changes = update_active_set(model, state, &rows, dofs, bar_only, characteristic, &mut flips);
+        let mut changes = update_active_set(model, state, &rows, dofs, bar_only, characteristic, &mut flips);
+        changes.extend(rupture_bars(elements, state));
         state_changes.extend(changes.iter().cloned());
         // Converged when the out-of-balance force is small, the gaps are closed, no point changed
         // state, and either the correction is small against the increment or this was the first
@@ -646,6 +650,23 @@ fn multiplier_name(model: &Model, interfaces: &[Interface], dofs: &DofMap, k: us
     let i = &interfaces[m.interface];
     let f = &i.faces[m.face];
     format!("interface \"{}\" {} face at node {}", i.name, f.label, model.mesh.node_id(f.points[m.point].slave))
+}
+
+/// Bars whose tension passed their rupture strength break: they carry nothing from then on.
+fn rupture_bars(elements: &ElementMatrices, state: &mut State) -> Vec<String> {
+    let mut changes = Vec::new();
+    for (i, bar) in elements.bars.iter().enumerate() {
+        let Some(t_ult) = bar.rupture_strength else { continue };
+        if state.ruptured[i] {
+            continue;
+        }
+        let t = bar.elastic_force(&state.u, &elements.blocks[bar.block].0);
+        if t > t_ult {
+            state.ruptured[i] = true;
+            changes.push(format!("bar {} ruptured: T = {t:.4} > T_ult = {t_ult}", bar.id));
+        }
+    }
+    changes
 }
 
 /// How many state changes of one point an increment allows before the point is kept in contact.
@@ -775,7 +796,7 @@ fn iteration_system(
     let n_dof = state.u.len();
     let gaps = rows.gaps(&state.u);
     let taus: Vec<f64> = springs.iter().map(|r| r.tau).collect();
-    let f_int = system::internal_force(elements, rows, &taus, &state.u);
+    let f_int = system::internal_force(elements, rows, &taus, &state.ruptured, &state.u);
     let f_c = system::constraint_force(rows, &state.lambda, n_dof);
     let mut rhs = vec![0.0; dofs.size()];
     for (d, eq) in dofs.equation.iter().enumerate() {
@@ -802,7 +823,7 @@ fn iteration_system(
             -state.lambda[k]
         };
     }
-    let triplets = system::assemble(elements, rows, spring_stiffness, &state.interfaces, dofs, scale);
+    let triplets = system::assemble(elements, rows, spring_stiffness, &state.ruptured, &state.interfaces, dofs, scale);
     IterationSystem { triplets, rhs, scale, active }
 }
 
@@ -835,6 +856,7 @@ pub fn first_system(model: &Model) -> (usize, IterationSystem) {
         f_ext,
         u_committed: vec![0.0; dof_count],
         frozen_sigma_n: None,
+        ruptured: vec![false; model.mesh.bars.len()],
     };
     let rows = InterfaceRows::new(model, &state.interfaces, &dofs);
     let springs = evaluate_springs(model, &state, &rows);
@@ -855,7 +877,7 @@ fn out_of_balance(
     dofs: &DofMap,
 ) -> (f64, f64) {
     let n_dof = state.u.len();
-    let f_int = system::internal_force(elements, rows, taus, &state.u);
+    let f_int = system::internal_force(elements, rows, taus, &state.ruptured, &state.u);
     let f_c = system::constraint_force(rows, &state.lambda, n_dof);
     let mut r2 = 0.0;
     let mut reference2 = 0.0;

@@ -3,7 +3,7 @@
 
 use super::system::{self, ElementMatrices, InterfaceRows};
 use super::State;
-use crate::element::{bar, solid};
+use crate::element::solid;
 use crate::interface::ShearLaw;
 use crate::model::Model;
 
@@ -22,6 +22,8 @@ pub struct BarForce {
     pub midpoint: [f64; 2],
     /// Axial force per metre width, tension positive.
     pub axial_force: f64,
+    /// `intact`, `slack` (a tension-only bar in compression) or `ruptured`.
+    pub state: &'static str,
 }
 
 #[derive(Debug, Clone)]
@@ -79,7 +81,7 @@ impl StepResults {
     ) -> Self {
         let mesh = &model.mesh;
         let n_dof = state.u.len();
-        let f_int = system::internal_force(elements, rows, taus, &state.u);
+        let f_int = system::internal_force(elements, rows, taus, &state.ruptured, &state.u);
         let f_c = system::constraint_force(rows, &state.lambda, n_dof);
         let reaction_vector: Vec<f64> =
             (0..n_dof).map(|d| if held[d] { f_int[d] + f_c[d] - state.f_ext[d] } else { 0.0 }).collect();
@@ -97,22 +99,26 @@ impl StepResults {
                 ry: held[2 * i + 1].then(|| reaction_vector[2 * i + 1]),
             })
             .collect();
-        let bar_forces = mesh
+        let bar_forces = elements
             .bars
             .iter()
-            .map(|b| {
+            .enumerate()
+            .map(|(i, law)| {
+                let b = &mesh.bars[i];
                 let (a, c) = (mesh.position(b.nodes[0]), mesh.position(b.nodes[1]));
-                let u = [
-                    state.u[2 * b.nodes[0]],
-                    state.u[2 * b.nodes[0] + 1],
-                    state.u[2 * b.nodes[1]],
-                    state.u[2 * b.nodes[1] + 1],
-                ];
+                let dl = &elements.blocks[law.block].0;
                 BarForce {
                     bar: b.id,
                     nodes: [mesh.node_id(b.nodes[0]), mesh.node_id(b.nodes[1])],
                     midpoint: [0.5 * (a[0] + c[0]), 0.5 * (a[1] + c[1])],
-                    axial_force: bar::axial_force(a, c, model.reinforcements[b.material].1.axial_stiffness, u),
+                    axial_force: law.force(&state.u, dl, state.ruptured[i]),
+                    state: if state.ruptured[i] {
+                        "ruptured"
+                    } else if law.slack(&state.u, dl, false) {
+                        "slack"
+                    } else {
+                        "intact"
+                    },
                 }
             })
             .collect();

@@ -14,6 +14,43 @@ use std::time::Instant;
 /// Element stiffness matrices with their global DOF lists (2·node + d).
 pub struct ElementMatrices {
     pub blocks: Vec<(Vec<usize>, DMatrix<f64>)>,
+    /// For each bar (in mesh order): its block and its law. Solid blocks come first.
+    pub bars: Vec<BarLaw>,
+}
+
+/// A bar's axial law: linear elastic, optionally tension-only, optionally rupturing at T_ult.
+#[derive(Debug, Clone)]
+pub struct BarLaw {
+    pub id: u64,
+    pub block: usize,
+    pub axis: [f64; 2],
+    pub length: f64,
+    pub axial_stiffness: f64,
+    pub tension_only: bool,
+    pub rupture_strength: Option<f64>,
+}
+
+impl BarLaw {
+    /// Elastic axial force T = EA/L·e·(u_b − u_a) (tension positive).
+    pub fn elastic_force(&self, u: &[f64], dofs: &[usize]) -> f64 {
+        self.axial_stiffness / self.length
+            * (self.axis[0] * (u[dofs[2]] - u[dofs[0]]) + self.axis[1] * (u[dofs[3]] - u[dofs[1]]))
+    }
+
+    /// The force the bar carries: zero once ruptured, and never compressive when tension-only.
+    pub fn force(&self, u: &[f64], dofs: &[usize], ruptured: bool) -> f64 {
+        let t = self.elastic_force(u, dofs);
+        if ruptured || (self.tension_only && t < 0.0) {
+            0.0
+        } else {
+            t
+        }
+    }
+
+    /// Whether the bar carries no stiffness in the current state.
+    pub fn slack(&self, u: &[f64], dofs: &[usize], ruptured: bool) -> bool {
+        ruptured || (self.tension_only && self.elastic_force(u, dofs) < 0.0)
+    }
 }
 
 impl ElementMatrices {
@@ -29,12 +66,24 @@ impl ElementMatrices {
                 .expect("element Jacobians were checked when the model was read");
             blocks.push((dofs_of(&e.nodes), k));
         }
+        let mut bars = Vec::with_capacity(mesh.bars.len());
         for b in &mesh.bars {
-            let ea = model.reinforcements[b.material].1.axial_stiffness;
-            let k = bar::stiffness(mesh.position(b.nodes[0]), mesh.position(b.nodes[1]), ea);
+            let m = &model.reinforcements[b.material].1;
+            let (a, c) = (mesh.position(b.nodes[0]), mesh.position(b.nodes[1]));
+            let k = bar::stiffness(a, c, m.axial_stiffness);
+            let (axis, length) = bar::axis(a, c);
+            bars.push(BarLaw {
+                id: b.id,
+                block: blocks.len(),
+                axis,
+                length,
+                axial_stiffness: m.axial_stiffness,
+                tension_only: m.tension_only,
+                rupture_strength: m.rupture_strength,
+            });
             blocks.push((dofs_of(&b.nodes), DMatrix::from_fn(4, 4, |i, j| k[(i, j)])));
         }
-        ElementMatrices { blocks }
+        ElementMatrices { blocks, bars }
     }
 
     /// Mean absolute diagonal entry of the element matrices: the scale of the constraint rows.
@@ -166,18 +215,22 @@ pub fn assemble(
     elements: &ElementMatrices,
     rows: &InterfaceRows,
     spring_stiffness: &[f64],
+    ruptured: &[bool],
     interfaces: &[Interface],
     dofs: &DofMap,
     scale: f64,
 ) -> Triplets {
     let mut t = Triplets::default();
     let eq = |d: usize| dofs.equation[d];
-    for (dl, k) in &elements.blocks {
+    for (b, (dl, k)) in elements.blocks.iter().enumerate() {
+        // a ruptured bar keeps its place in the pattern with no stiffness
+        let first_bar = elements.bars.first().map_or(usize::MAX, |bar| bar.block);
+        let factor = if b >= first_bar && ruptured.get(b - first_bar).copied().unwrap_or(false) { 0.0 } else { 1.0 };
         for (a, &da) in dl.iter().enumerate() {
             let Some(ia) = eq(da) else { continue };
             for (b, &db) in dl.iter().enumerate() {
                 if let Some(ib) = eq(db) {
-                    t.push(ia, ib, k[(a, b)]);
+                    t.push(ia, ib, factor * k[(a, b)]);
                 }
             }
         }
@@ -209,9 +262,16 @@ pub fn assemble(
 
 /// Internal forces over all displacement DOFs: the elements' K_e·u_e plus the springs' τ·ℓ·row (the
 /// multipliers' Cᵀλ apart). `taus` holds each spring's shear stress.
-pub fn internal_force(elements: &ElementMatrices, rows: &InterfaceRows, taus: &[f64], u: &[f64]) -> Vec<f64> {
+pub fn internal_force(
+    elements: &ElementMatrices,
+    rows: &InterfaceRows,
+    taus: &[f64],
+    ruptured: &[bool],
+    u: &[f64],
+) -> Vec<f64> {
     let mut f = vec![0.0; u.len()];
-    for (dl, k) in &elements.blocks {
+    let first_bar = elements.bars.first().map(|b| b.block).unwrap_or(elements.blocks.len());
+    for (dl, k) in &elements.blocks[..first_bar] {
         for (a, &da) in dl.iter().enumerate() {
             let mut s = 0.0;
             for (b, &db) in dl.iter().enumerate() {
@@ -219,6 +279,15 @@ pub fn internal_force(elements: &ElementMatrices, rows: &InterfaceRows, taus: &[
             }
             f[da] += s;
         }
+    }
+    for (i, bar) in elements.bars.iter().enumerate() {
+        let dl = &elements.blocks[bar.block].0;
+        let t = bar.force(u, dl, ruptured.get(i).copied().unwrap_or(false));
+        let e = bar.axis;
+        f[dl[0]] -= t * e[0];
+        f[dl[1]] -= t * e[1];
+        f[dl[2]] += t * e[0];
+        f[dl[3]] += t * e[1];
     }
     for (spring, tau) in rows.springs.iter().zip(taus) {
         for &(d, c) in &spring.row {

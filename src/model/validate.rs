@@ -12,7 +12,7 @@ use std::path::Path;
 
 pub(super) fn validate(source: &Path, file: &ModelFile) -> Result<Model, ModelError> {
     let mut p = Problems::default();
-    let mut notes = Vec::new();
+    let notes: Vec<String> = Vec::new();
 
     // Materials.
     let soils: Vec<(String, SoilMaterial)> = file.materials.soil.iter().map(|(k, v)| (k.clone(), v.clone())).collect();
@@ -41,11 +41,6 @@ pub(super) fn validate(source: &Path, file: &ModelFile) -> Result<Model, ModelEr
             if !(t.is_finite() && t > 0.0) {
                 p.push(f("rupture_strength"), &entity, format!("must be a positive number, found {t}"));
             }
-        }
-        if m.tension_only || m.rupture_strength.is_some() {
-            notes.push(format!(
-                "reinforcement material \"{name}\": tension_only and rupture_strength are accepted but not yet applied; bars stay linear elastic"
-            ));
         }
     }
     let soil_index: HashMap<&str, usize> = soils.iter().enumerate().map(|(i, (n, _))| (n.as_str(), i)).collect();

@@ -200,6 +200,7 @@ impl ResultWriter {
                     format!("x_mid [{l}]"),
                     format!("y_mid [{l}]"),
                     format!("T [{f}]"),
+                    "state".into(),
                 ]),
                 r.bar_forces.iter().map(|b| {
                     vec![
@@ -209,6 +210,7 @@ impl ResultWriter {
                         num(b.midpoint[0]),
                         num(b.midpoint[1]),
                         num(b.axial_force),
+                        b.state.to_string(),
                     ]
                 }),
             ),
