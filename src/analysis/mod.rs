@@ -186,7 +186,7 @@ pub fn run(model: &Model, options: &RunOptions, sink: &mut dyn StepSink) -> Resu
             held[dof(n, d)] = true;
         }
         let dofs = DofMap::new(model.mesh.nodes.len(), &held, &state.interfaces);
-        let redundant = mark_redundant_rows(model, &mut state.interfaces, &dofs);
+        let mut redundant = mark_redundant_rows(model, &mut state.interfaces, &dofs);
         let stage_force = external_force(model, &stage.loads);
         let f_ext_start = state.f_ext.clone();
         let u_start = state.u.clone();
@@ -240,6 +240,12 @@ pub fn run(model: &Model, options: &RunOptions, sink: &mut dyn StepSink) -> Resu
             if options.reassociation != ReassociationRule::None {
                 reassociations.extend(reassociate::uncover_slits(&model.mesh, &mut state.interfaces, &state.u));
             }
+            let redundant_now = redundant.clone();
+            if !reassociations.is_empty() {
+                // new associations can make two rows repeat each other (both faces tied to the same
+                // soil node at a slit tip): find them again for the next increment
+                redundant = mark_redundant_rows(model, &mut state.interfaces, &dofs);
+            }
             state.u_committed = state.u.clone();
             let record = StepRecord {
                 stage: stage.name.clone(),
@@ -251,7 +257,7 @@ pub fn run(model: &Model, options: &RunOptions, sink: &mut dyn StepSink) -> Resu
                 force_residual: report.force_residual,
                 linear_residuals: report.linear_residuals,
                 seconds: started.elapsed().as_secs_f64(),
-                redundant_rows: redundant.clone(),
+                redundant_rows: redundant_now,
                 state_changes: report.state_changes,
                 reassociations,
                 sliding_points: report.springs.iter().filter(|r| r.sliding).count(),
@@ -532,6 +538,7 @@ fn equilibrium(
     let mut state_changes = Vec::new();
     let characteristic = model.mesh.characteristic_length();
     let mut kept_stiffness: Option<(Vec<bool>, Vec<f64>)> = None;
+    let mut dependent_retries = 0;
     for iteration in 1..=options.max_iterations {
         if options.reassociation != ReassociationRule::None {
             reassociate::clip_tributaries(&model.mesh, &mut state.interfaces, &state.u);
@@ -575,10 +582,33 @@ fn equilibrium(
         let (x, lin_res) = match system.solve(dofs.size(), &triplets, &rhs, active) {
             Ok(v) => v,
             Err(Failure::Singular { equations }) => {
+                // Normal rows that depend on other rows (after a re-association, two reinforcement
+                // nodes tied to the same pair of soil nodes) are set aside, reported, and the
+                // iteration retried; anything else is a mechanism of the model.
+                let null = null_equations(&triplets, dofs.size(), equations.clone()).unwrap_or_default();
+                let rows: Vec<usize> = null
+                    .iter()
+                    .filter_map(|&e| e.checked_sub(dofs.free_count))
+                    .filter(|&k| !dofs.multipliers[k].tangential)
+                    .collect();
+                if !null.is_empty() && rows.len() == null.len() && dependent_retries < 8 {
+                    dependent_retries += 1;
+                    for k in rows {
+                        let m = dofs.multipliers[k];
+                        let name = multiplier_name(model, &state.interfaces, dofs, k);
+                        state.interfaces[m.interface].faces[m.face].points[m.point].normal_state = NormalState::Redundant {
+                            carried_by: "the other constraint rows on the same soil nodes (it depends on them)".into(),
+                            multiplier: None,
+                        };
+                        state.lambda[k] = 0.0;
+                        state_changes.push(format!("{name}: set aside, it depends on other constraint rows"));
+                    }
+                    continue;
+                }
                 return Err(IncrementError::Solve(SolveError::Singular {
                     backend: system.backend().name(),
                     unknowns: diagnose_singular(model, &state.interfaces, dofs, &triplets, equations),
-                }))
+                }));
             }
             Err(Failure::Other(e)) => return Err(IncrementError::Solve(e)),
         };
@@ -915,10 +945,7 @@ fn diagnose_singular(
     equations: Vec<usize>,
 ) -> Vec<String> {
     let n = dofs.size();
-    let mut column_norm = vec![0.0f64; n];
-    for (&j, &v) in triplets.cols.iter().zip(&triplets.values) {
-        column_norm[j] += v.abs();
-    }
+    let column_norm = column_norms(triplets, n);
     let describe = |e: usize| {
         let name = dofs.describe(e, &model.mesh, interfaces);
         if column_norm.get(e).is_some_and(|&c| c == 0.0) {
@@ -927,25 +954,41 @@ fn diagnose_singular(
             format!("{name} is not held (a null pivot: a mechanism runs through it)")
         }
     };
+    match null_equations(triplets, n, equations) {
+        Some(list) => cap(list.into_iter().map(describe).collect()),
+        None => vec!["a mechanism that the structural checks did not isolate: check that every bar node is held by an interface and every body is supported".into()],
+    }
+}
+
+fn column_norms(triplets: &crate::assembly::Triplets, n: usize) -> Vec<f64> {
+    let mut column_norm = vec![0.0f64; n];
+    for (&j, &v) in triplets.cols.iter().zip(&triplets.values) {
+        column_norm[j] += v.abs();
+    }
+    column_norm
+}
+
+/// The undetermined unknowns of a singular system: those the backend named, else the empty
+/// columns, else those the reference solver's complete pivoting isolates (small systems).
+fn null_equations(triplets: &crate::assembly::Triplets, n: usize, equations: Vec<usize>) -> Option<Vec<usize>> {
     if !equations.is_empty() {
-        return cap(equations.into_iter().map(describe).collect());
+        return Some(equations);
     }
-    // Unknowns with no stiffness and no constraint at all.
-    let empty: Vec<String> = (0..n).filter(|&j| column_norm[j] == 0.0).map(describe).collect();
+    let column_norm = column_norms(triplets, n);
+    let empty: Vec<usize> = (0..n).filter(|&j| column_norm[j] == 0.0).collect();
     if !empty.is_empty() {
-        return cap(empty);
+        return Some(empty);
     }
-    // Ask the reference solver, whose complete pivoting isolates the undetermined unknowns.
     if n <= dense_ref::SIZE_LIMIT {
         let matrix = crate::assembly::PatternCache::default().assemble(n, triplets).0;
         let mut dense = dense_ref::DenseReference::default();
         if dense.analyse(&matrix).is_ok() {
             if let Err(Failure::Singular { equations }) = dense.factorize(&matrix) {
-                return cap(equations.into_iter().map(describe).collect());
+                return Some(equations);
             }
         }
     }
-    vec!["a mechanism that the structural checks did not isolate: check that every bar node is held by an interface and every body is supported".into()]
+    None
 }
 
 fn cap(mut list: Vec<String>) -> Vec<String> {
