@@ -101,3 +101,32 @@ fn base_shear_is_min_of_elastic_and_coulomb() {
         }
     }
 }
+
+/// The three iteration schemes reach the same sliding force on every backend (the consistent Newton
+/// tangent is unsymmetric: MUMPS runs it with SYM=0), in no more iterations than the paper's
+/// constant stiffness.
+#[test]
+fn every_scheme_gives_the_coulomb_force_and_newton_converges_fastest() {
+    let strength = C * 1.0 + (30f64).to_radians().tan() * Q * 1.0;
+    let mut iterations = Vec::new();
+    for scheme in [Scheme::ConstantStiffness, Scheme::NewtonSymmetric, Scheme::Newton] {
+        let mut file = block_on_base(0.05);
+        file.analysis.scheme = scheme;
+        let model = common::model(&file, "coulomb-block.toml");
+        for backend in Backend::available() {
+            let c = common::run(&model, backend);
+            let r = c.last().unwrap();
+            let f: f64 = model.node_sets["block"].iter().map(|&n| r.reaction_vector[2 * n]).sum();
+            assert!((f - strength).abs() < 1e-9 * strength, "{scheme:?}/{backend:?}: F = {f}");
+            if backend == Backend::Dense {
+                iterations.push(c.steps.iter().map(|(rec, _)| rec.iterations).sum::<usize>());
+            }
+        }
+    }
+    assert!(
+        iterations[2] <= iterations[0],
+        "Newton {} iterations, constant stiffness {}",
+        iterations[2],
+        iterations[0]
+    );
+}

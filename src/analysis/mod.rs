@@ -160,11 +160,8 @@ pub struct State {
 /// changing state; steps completed before it have already been passed to `sink`.
 pub fn run(model: &Model, options: &RunOptions, sink: &mut dyn StepSink) -> Result<SolverStats, Error> {
     let elements = ElementMatrices::compute(model);
-    let mut system = LinearSystem::new(options.backend).map_err(|source| Error::Solve {
-        file: model.source.clone(),
-        stage: model.stages[0].name.clone(),
-        step: 1,
-        source,
+    let mut system = LinearSystem::new(options.backend, options.scheme != Scheme::Newton).map_err(|source| {
+        Error::Solve { file: model.source.clone(), stage: model.stages[0].name.clone(), step: 1, source }
     })?;
     let dof_count = 2 * model.mesh.nodes.len();
     let mut state = State {
@@ -241,9 +238,9 @@ pub fn run(model: &Model, options: &RunOptions, sink: &mut dyn StepSink) -> Resu
                 reassociations.extend(reassociate::uncover_slits(&model.mesh, &mut state.interfaces, &state.u));
             }
             let redundant_now = redundant.clone();
-            if !reassociations.is_empty() {
-                // new associations can make two rows repeat each other (both faces tied to the same
-                // soil node at a slit tip): find them again for the next increment
+            if options.reassociation != ReassociationRule::None {
+                // new associations and clipped lengths can make two rows repeat each other (both
+                // faces tied to segments ending at one soil node, at a slit tip): find them again
                 redundant = mark_redundant_rows(model, &mut state.interfaces, &dofs);
             }
             state.u_committed = state.u.clone();
@@ -349,6 +346,9 @@ pub fn external_force(model: &Model, loads: &[Load]) -> Vec<f64> {
 fn mark_redundant_rows(model: &Model, interfaces: &mut [Interface], dofs: &DofMap) -> Vec<String> {
     let rows = InterfaceRows::new(model, interfaces, dofs);
     let mut seen: HashMap<Vec<(usize, i64)>, usize> = HashMap::new();
+    // the rows already kept, per slave node: (multiplier, free part of its row)
+    type KeptRows = Vec<(usize, Vec<(usize, f64)>)>;
+    let mut by_slave: HashMap<usize, KeptRows> = HashMap::new();
     let mut report = Vec::new();
     for (k, row) in rows.constraint_rows.iter().enumerate() {
         let m = dofs.multipliers[k];
@@ -380,10 +380,20 @@ fn mark_redundant_rows(model: &Model, interfaces: &mut [Interface], dofs: &DofMa
         } else {
             let scale = free[0].1;
             let key: Vec<(usize, i64)> = free.iter().map(|&(e, c)| (e, (c / scale * 1e9).round() as i64)).collect();
-            match seen.get(&key) {
-                Some(&first) => Some((name(interfaces, first), Some(first))),
+            // Rows of the same slave node that are nearly parallel (both faces of a reinforcement
+            // tied to segments that end at the same soil node, as at a slit tip) make the system
+            // singular or ill-conditioned: the later one is carried by the earlier one.
+            let slave = interfaces[m.interface].faces[m.face].points[m.point].slave;
+            let near = by_slave.get(&slave).and_then(|earlier: &KeptRows| {
+                earlier.iter().find(|(_, other)| nearly_parallel(&free, other)).map(|(j, _)| *j)
+            });
+            let tip = interfaces[m.interface].faces[m.face].points[m.point].slit_tip && !m.tangential;
+            let tip_partner = if tip { by_slave.get(&slave).and_then(|e| e.first()).map(|(j, _)| *j) } else { None };
+            match seen.get(&key).copied().or(near).or(tip_partner) {
+                Some(first) => Some((name(interfaces, first), Some(first))),
                 None => {
                     seen.insert(key, k);
+                    by_slave.entry(slave).or_default().push((k, free.clone()));
                     None
                 }
             }
@@ -409,6 +419,30 @@ fn mark_redundant_rows(model: &Model, interfaces: &mut [Interface], dofs: &DofMa
         }
     }
     report
+}
+
+/// Whether two sparse rows (sorted by equation) are parallel or antiparallel to within an angle of
+/// about 10⁻³ rad (|cos| > 1 − 5·10⁻⁷).
+fn nearly_parallel(a: &[(usize, f64)], b: &[(usize, f64)]) -> bool {
+    let norm = |r: &[(usize, f64)]| r.iter().map(|(_, c)| c * c).sum::<f64>().sqrt();
+    let (na, nb) = (norm(a), norm(b));
+    if na == 0.0 || nb == 0.0 {
+        return false;
+    }
+    let mut dot = 0.0;
+    let (mut i, mut j) = (0, 0);
+    while i < a.len() && j < b.len() {
+        match a[i].0.cmp(&b[j].0) {
+            std::cmp::Ordering::Less => i += 1,
+            std::cmp::Ordering::Greater => j += 1,
+            std::cmp::Ordering::Equal => {
+                dot += a[i].1 * b[j].1;
+                i += 1;
+                j += 1;
+            }
+        }
+    }
+    (dot / (na * nb)).abs() > 1.0 - 5e-7
 }
 
 /// Why an increment failed, before the stage and step are known.
@@ -506,7 +540,7 @@ fn evaluate_springs(model: &Model, state: &State, rows: &InterfaceRows) -> Vec<S
                 st.slip = slip;
                 st.plastic_slip = slip;
                 st.tau = 0.0;
-                ShearResponse { tau: 0.0, tangent: 0.0, state: st, sliding: false }
+                ShearResponse { tau: 0.0, tangent: 0.0, d_tau_d_sigma: 0.0, state: st, sliding: false }
             };
             let _ = model;
             SpringResult {
@@ -569,7 +603,7 @@ fn equilibrium(
                     let ks = state.interfaces[s.interface].law.shear_stiffness().unwrap_or(0.0);
                     let k = match options.scheme {
                         Scheme::ConstantStiffness => ks,
-                        Scheme::Newton => r.response.tangent.max(0.0),
+                        Scheme::Newton | Scheme::NewtonSymmetric => r.response.tangent.max(0.0),
                     };
                     k * s.tributary
                 })
@@ -577,8 +611,24 @@ fn equilibrium(
             kept_stiffness = Some((contact, stiffness));
         }
         let stiffness = &kept_stiffness.as_ref().expect("set above").1;
+        // the consistent tangent couples each sliding point's shear to its normal multiplier
+        let coupling: Option<Vec<f64>> =
+            (options.scheme == Scheme::Newton && state.frozen_sigma_n.is_none()).then(|| {
+                rows.springs
+                    .iter()
+                    .zip(&springs)
+                    .map(|(s, r)| {
+                        let p = &state.interfaces[s.interface].faces[s.face].points[s.point];
+                        if matches!(p.normal_state, NormalState::Active) {
+                            r.response.d_tau_d_sigma
+                        } else {
+                            0.0
+                        }
+                    })
+                    .collect()
+            });
         let IterationSystem { triplets, rhs, scale, active } =
-            iteration_system(elements, &rows, &springs, stiffness, dofs, state);
+            iteration_system(elements, &rows, &springs, stiffness, coupling.as_deref(), dofs, state);
         let (x, lin_res) = match system.solve(dofs.size(), &triplets, &rhs, active) {
             Ok(v) => v,
             Err(Failure::Singular { equations }) => {
@@ -596,10 +646,12 @@ fn equilibrium(
                     for k in rows {
                         let m = dofs.multipliers[k];
                         let name = multiplier_name(model, &state.interfaces, dofs, k);
-                        state.interfaces[m.interface].faces[m.face].points[m.point].normal_state = NormalState::Redundant {
-                            carried_by: "the other constraint rows on the same soil nodes (it depends on them)".into(),
-                            multiplier: None,
-                        };
+                        state.interfaces[m.interface].faces[m.face].points[m.point].normal_state =
+                            NormalState::Redundant {
+                                carried_by: "the other constraint rows on the same soil nodes (it depends on them)"
+                                    .into(),
+                                multiplier: None,
+                            };
                         state.lambda[k] = 0.0;
                         state_changes.push(format!("{name}: set aside, it depends on other constraint rows"));
                     }
@@ -820,6 +872,7 @@ fn iteration_system(
     rows: &InterfaceRows,
     springs: &[SpringResult],
     spring_stiffness: &[f64],
+    spring_coupling: Option<&[f64]>,
     dofs: &DofMap,
     state: &State,
 ) -> IterationSystem {
@@ -853,7 +906,16 @@ fn iteration_system(
             -state.lambda[k]
         };
     }
-    let triplets = system::assemble(elements, rows, spring_stiffness, &state.ruptured, &state.interfaces, dofs, scale);
+    let triplets = system::assemble(
+        elements,
+        rows,
+        spring_stiffness,
+        spring_coupling,
+        &state.ruptured,
+        &state.interfaces,
+        dofs,
+        scale,
+    );
     IterationSystem { triplets, rhs, scale, active }
 }
 
@@ -895,7 +957,7 @@ pub fn first_system(model: &Model) -> (usize, IterationSystem) {
         .iter()
         .map(|s| state.interfaces[s.interface].law.shear_stiffness().unwrap_or(0.0) * s.tributary)
         .collect();
-    (dofs.size(), iteration_system(&elements, &rows, &springs, &stiffness, &dofs, &state))
+    (dofs.size(), iteration_system(&elements, &rows, &springs, &stiffness, None, &dofs, &state))
 }
 
 /// ‖out-of-balance force on the free DOFs‖ and the reference force (applied loads and reactions).

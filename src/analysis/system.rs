@@ -211,10 +211,12 @@ pub fn multiplier_is_active(interfaces: &[Interface], dofs: &DofMap, k: usize) -
 /// The constraint rows are scaled by `s` (a typical stiffness, [`ElementMatrices::typical_stiffness`])
 /// so that they are commensurate with K; the unknowns are then Δλ/s. This equilibration keeps the
 /// saddle-point matrix well conditioned for backends that do not scale it themselves.
+#[allow(clippy::too_many_arguments)]
 pub fn assemble(
     elements: &ElementMatrices,
     rows: &InterfaceRows,
     spring_stiffness: &[f64],
+    spring_coupling: Option<&[f64]>,
     ruptured: &[bool],
     interfaces: &[Interface],
     dofs: &DofMap,
@@ -241,6 +243,19 @@ pub fn assemble(
             for &(db, cb) in &spring.row {
                 if let Some(ib) = eq(db) {
                     t.push(ia, ib, k * ca * cb);
+                }
+            }
+        }
+    }
+    // The consistent tangent's ∂(τ·ℓ·row)/∂λ = (∂τ/∂σn)·row in the columns of each spring's normal
+    // multiplier (unknown λ/s, hence the factor s). Always pushed under this scheme, zero where it
+    // does not apply, so the pattern does not change between iterations.
+    if let Some(coupling) = spring_coupling {
+        for (spring, &c) in rows.springs.iter().zip(coupling) {
+            let m = dofs.multiplier_equation(spring.normal_multiplier);
+            for &(d, cd) in &spring.row {
+                if let Some(i) = eq(d) {
+                    t.push(i, m, scale * c * cd);
                 }
             }
         }
@@ -350,9 +365,10 @@ pub struct LinearSystem {
 }
 
 impl LinearSystem {
-    pub fn new(backend: Backend) -> Result<Self, SolveError> {
+    /// A solver for matrices that are `symmetric` or not (MUMPS: SYM=2 or SYM=0).
+    pub fn new(backend: Backend, symmetric: bool) -> Result<Self, SolveError> {
         Ok(LinearSystem {
-            solver: linsol::make(backend, true)?,
+            solver: linsol::make(backend, symmetric)?,
             patterns: PatternCache::default(),
             factorized: None,
             stats: SolverStats::default(),

@@ -78,6 +78,7 @@ fn points_on(mesh: &Mesh, face_master: &[NodeIndex], slave: &[NodeIndex]) -> Vec
                 tangential_state: NormalState::Active,
                 gap0: 0.0,
                 shear: Default::default(),
+                slit_tip: false,
             }
         })
         .collect()
@@ -249,6 +250,12 @@ pub fn split_reinforcement(
     ];
     if !left_is_upper {
         faces.swap(0, 1);
+    }
+    if split_count < path.len() {
+        // the tail is a slit tip: both faces end at one soil node, one row serves both
+        if let Some(p) = faces[1].points.last_mut() {
+            p.slit_tip = true;
+        }
     }
     // The slit: the right side's doubled nodes against the left side's face. The reinforcement fills
     // it now; behind a sliding tail its two soil faces must not pass through each other.

@@ -69,6 +69,9 @@ pub struct ShearResponse {
     pub tau: f64,
     /// dτ/ds at constant σn (0 while sliding on a perfectly plastic law).
     pub tangent: f64,
+    /// dτ/dσn at constant slip (the friction coefficient while sliding; 0 while elastic): the
+    /// coupling that makes the consistent tangent unsymmetric.
+    pub d_tau_d_sigma: f64,
     /// The state this slip would leave.
     pub state: ShearState,
     /// The point is at its strength.
@@ -130,7 +133,13 @@ impl ShearLaw {
     /// Evaluate the law at total slip `slip` from the committed state, with normal stress `sigma_n`.
     pub fn response(&self, committed: &ShearState, slip: f64, sigma_n: f64) -> ShearResponse {
         let Some(ks) = self.shear_stiffness() else {
-            return ShearResponse { tau: 0.0, tangent: 0.0, state: committed.clone(), sliding: false };
+            return ShearResponse {
+                tau: 0.0,
+                tangent: 0.0,
+                d_tau_d_sigma: 0.0,
+                state: committed.clone(),
+                sliding: false,
+            };
         };
         let mut state = committed.clone();
         state.slip = slip;
@@ -138,20 +147,26 @@ impl ShearLaw {
         match self {
             ShearLaw::Linear { .. } => {
                 state.tau = ks * slip;
-                ShearResponse { tau: state.tau, tangent: ks, state, sliding: false }
+                ShearResponse { tau: state.tau, tangent: ks, d_tau_d_sigma: 0.0, state, sliding: false }
             }
             ShearLaw::Hyperbolic { .. } => {
                 let tf = self.peak_strength(sigma_n).max(f64::MIN_POSITIVE);
                 let d = 1.0 + ks * elastic.abs() / tf;
                 state.tau = ks * elastic / d;
-                ShearResponse { tau: state.tau, tangent: ks / (d * d), state, sliding: false }
+                // τ = Ks·e·τf/(τf + Ks|e|): ∂τ/∂τf = Ks·e·Ks|e|/(τf + Ks|e|)², τf = c + σn·tan φ
+                let tan_phi = match self {
+                    ShearLaw::Hyperbolic { tan_friction, .. } if sigma_n > 0.0 => *tan_friction,
+                    _ => 0.0,
+                };
+                let d_tau_d_sigma = tan_phi * ks * elastic * ks * elastic.abs() / (tf + ks * elastic.abs()).powi(2);
+                ShearResponse { tau: state.tau, tangent: ks / (d * d), d_tau_d_sigma, state, sliding: false }
             }
             _ => {
                 let trial = ks * elastic;
                 let strength = self.current_strength(committed, sigma_n);
                 if trial.abs() <= strength {
                     state.tau = trial;
-                    return ShearResponse { tau: trial, tangent: ks, state, sliding: false };
+                    return ShearResponse { tau: trial, tangent: ks, d_tau_d_sigma: 0.0, state, sliding: false };
                 }
                 let sign = trial.signum();
                 let (tau_abs, tangent) = match self {
@@ -182,7 +197,21 @@ impl ShearLaw {
                 state.plastic_path = committed.plastic_path + (new_plastic - committed.plastic_slip).abs();
                 state.plastic_slip = new_plastic;
                 state.tau = tau;
-                ShearResponse { tau, tangent, state, sliding: true }
+                // the strength the point slides on grows with σn by its friction coefficient
+                let friction = if sigma_n <= 0.0 {
+                    0.0
+                } else {
+                    match self {
+                        ShearLaw::Coulomb { tan_friction, .. } => *tan_friction,
+                        ShearLaw::PeakResidual { residual_tan_friction, .. } => *residual_tan_friction,
+                        ShearLaw::Softening { tan_friction, residual_tan_friction, softening_slip, .. } => {
+                            let f = (state.plastic_path / softening_slip).min(1.0);
+                            tan_friction - (tan_friction - residual_tan_friction) * f
+                        }
+                        _ => 0.0,
+                    }
+                };
+                ShearResponse { tau, tangent, d_tau_d_sigma: sign * friction, state, sliding: true }
             }
         }
     }

@@ -68,6 +68,9 @@ pub struct ContactPoint {
     pub gap0: f64,
     /// Tangential law history (carried across re-associations).
     pub shear: ShearState,
+    /// The lower face's point at a slit tip (a reinforcement tail inside the soil): both faces meet
+    /// at one soil node there, so its normal row always repeats the upper face's and is carried by it.
+    pub slit_tip: bool,
 }
 
 impl ContactPoint {

@@ -52,8 +52,9 @@ pub struct ModelFile {
 #[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields, default)]
 pub struct AnalysisSettings {
-    /// `constant-stiffness` (the paper's Fig. 3: Ks in the matrix, the factorisation reused) or
-    /// `newton` (the law's tangent, symmetric, σn lagged one iteration).
+    /// `constant-stiffness` (the paper's Fig. 3: Ks in the matrix, the factorisation reused),
+    /// `newton` (the consistent tangent, unsymmetric when τp depends on σn) or `newton-symmetric`
+    /// (the law's tangent with σn lagged one iteration).
     pub scheme: Scheme,
     /// After each increment: `segment` (closest-point projection onto the deformed master face),
     /// `nearest-node` (the paper's approximation) or `none` (small slip: the pairing never changes).
@@ -86,8 +87,13 @@ impl Default for AnalysisSettings {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum Scheme {
+    /// The paper's Fig. 3: Ks in the matrix, the factorisation reused through an increment.
     ConstantStiffness,
+    /// The consistent tangent, with ∂τ/∂σn: unsymmetric when the strength depends on σn (MUMPS then
+    /// factorises with SYM=0).
     Newton,
+    /// The law's tangent with σn lagged one iteration: symmetric.
+    NewtonSymmetric,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
