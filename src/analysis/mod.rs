@@ -25,58 +25,30 @@ use crate::dofs::DofMap;
 use crate::error::{Error, SolveError};
 use crate::interface::{Interface, NormalState, ShearResponse};
 use crate::linsol::{dense_ref, Backend, Failure, LinearSolver};
-use crate::model::file::{Direction, ReassociationRule, Scheme};
+use crate::model::file::{AnalysisSettings, Direction, ReassociationRule, Scheme};
 use crate::model::{Load, Model};
 use results::StepResults;
 use std::collections::HashMap;
 use system::{ElementMatrices, InterfaceRows, LinearSystem, SolverStats};
 
-/// What a run may be asked to do. [`RunOptions::for_model`] takes the model's `[analysis]` settings.
+/// What a run may be asked to do: a backend and the model's `[analysis]` settings
+/// ([`RunOptions::for_model`]).
 #[derive(Debug, Clone)]
 pub struct RunOptions {
     pub backend: Backend,
-    pub scheme: Scheme,
-    pub reassociation: ReassociationRule,
-    /// Out-of-balance force relative to the applied and reaction forces.
-    pub force_tolerance: f64,
-    /// Displacement correction relative to the increment's displacement.
-    pub displacement_tolerance: f64,
-    pub max_iterations: usize,
-    /// How many times an increment may be halved before the run gives up.
-    pub max_cutbacks: usize,
-    /// Hold σn at its value at the start of each stage (for comparison with programs that do).
-    pub freeze_normal_stress: bool,
+    pub analysis: AnalysisSettings,
 }
 
 impl Default for RunOptions {
     fn default() -> Self {
-        RunOptions {
-            backend: Backend::Auto,
-            scheme: Scheme::ConstantStiffness,
-            reassociation: ReassociationRule::Segment,
-            force_tolerance: 1e-9,
-            displacement_tolerance: 1e-9,
-            max_iterations: 300,
-            max_cutbacks: 8,
-            freeze_normal_stress: false,
-        }
+        RunOptions { backend: Backend::Auto, analysis: AnalysisSettings::default() }
     }
 }
 
 impl RunOptions {
     /// The model's `[analysis]` settings with a backend.
     pub fn for_model(model: &Model, backend: Backend) -> RunOptions {
-        let a = &model.analysis;
-        RunOptions {
-            backend,
-            scheme: a.scheme,
-            reassociation: a.reassociation,
-            force_tolerance: a.force_tolerance,
-            displacement_tolerance: a.displacement_tolerance,
-            max_iterations: a.max_iterations,
-            max_cutbacks: a.max_cutbacks,
-            freeze_normal_stress: a.freeze_normal_stress,
-        }
+        RunOptions { backend, analysis: model.analysis.clone() }
     }
 }
 
@@ -160,9 +132,10 @@ pub struct State {
 /// changing state; steps completed before it have already been passed to `sink`.
 pub fn run(model: &Model, options: &RunOptions, sink: &mut dyn StepSink) -> Result<SolverStats, Error> {
     let elements = ElementMatrices::compute(model);
-    let mut system = LinearSystem::new(options.backend, options.scheme != Scheme::Newton).map_err(|source| {
-        Error::Solve { file: model.source.clone(), stage: model.stages[0].name.clone(), step: 1, source }
-    })?;
+    let mut system =
+        LinearSystem::new(options.backend, options.analysis.scheme != Scheme::Newton).map_err(|source| {
+            Error::Solve { file: model.source.clone(), stage: model.stages[0].name.clone(), step: 1, source }
+        })?;
     let dof_count = 2 * model.mesh.nodes.len();
     let mut state = State {
         u: vec![0.0; dof_count],
@@ -187,7 +160,7 @@ pub fn run(model: &Model, options: &RunOptions, sink: &mut dyn StepSink) -> Resu
         let stage_force = external_force(model, &stage.loads);
         let f_ext_start = state.f_ext.clone();
         let u_start = state.u.clone();
-        state.frozen_sigma_n = options.freeze_normal_stress.then(|| {
+        state.frozen_sigma_n = options.analysis.freeze_normal_stress.then(|| {
             let rows = InterfaceRows::new(model, &state.interfaces, &dofs);
             rows.springs.iter().map(|s| normal_stress(&state, &rows, s)).collect()
         });
@@ -209,7 +182,7 @@ pub fn run(model: &Model, options: &RunOptions, sink: &mut dyn StepSink) -> Resu
             let report = match attempt {
                 Ok(report) => report,
                 Err(e) => {
-                    if e.retryable() && cutbacks < options.max_cutbacks {
+                    if e.retryable() && cutbacks < options.analysis.max_cutbacks {
                         state = snapshot;
                         targets.insert(0, 0.5 * (reached + target));
                         cutbacks += 1;
@@ -225,7 +198,7 @@ pub fn run(model: &Model, options: &RunOptions, sink: &mut dyn StepSink) -> Resu
             let taus: Vec<f64> = report.springs.iter().map(|r| r.tau).collect();
             let results = StepResults::compute(model, &elements, &rows, &taus, &state, &held);
             let balance = results::reinforcement_balance(model, &results, &state);
-            let mut reassociations = match options.reassociation {
+            let mut reassociations = match options.analysis.reassociation {
                 ReassociationRule::None => Vec::new(),
                 rule => reassociate::reassociate(
                     &model.mesh,
@@ -234,11 +207,11 @@ pub fn run(model: &Model, options: &RunOptions, sink: &mut dyn StepSink) -> Resu
                     rule == ReassociationRule::NearestNode,
                 ),
             };
-            if options.reassociation != ReassociationRule::None {
+            if options.analysis.reassociation != ReassociationRule::None {
                 reassociations.extend(reassociate::uncover_slits(&model.mesh, &mut state.interfaces, &state.u));
             }
             let redundant_now = redundant.clone();
-            if options.reassociation != ReassociationRule::None {
+            if options.analysis.reassociation != ReassociationRule::None {
                 // new associations and clipped lengths can make two rows repeat each other (both
                 // faces tied to segments ending at one soil node, at a slit tip): find them again
                 redundant = mark_redundant_rows(model, &mut state.interfaces, &dofs);
@@ -573,8 +546,8 @@ fn equilibrium(
     let characteristic = model.mesh.characteristic_length();
     let mut kept_stiffness: Option<(Vec<bool>, Vec<f64>)> = None;
     let mut dependent_retries = 0;
-    for iteration in 1..=options.max_iterations {
-        if options.reassociation != ReassociationRule::None {
+    for iteration in 1..=options.analysis.max_iterations {
+        if options.analysis.reassociation != ReassociationRule::None {
             reassociate::clip_tributaries(&model.mesh, &mut state.interfaces, &state.u);
         }
         state_changes.extend(hold_free_reinforcement_nodes(model, state, dofs, bar_only));
@@ -588,8 +561,8 @@ fn equilibrium(
             .iter()
             .map(|s| state.interfaces[s.interface].faces[s.face].points[s.point].in_contact())
             .collect();
-        let keep =
-            options.scheme == Scheme::ConstantStiffness && kept_stiffness.as_ref().is_some_and(|(c, _)| *c == contact);
+        let keep = options.analysis.scheme == Scheme::ConstantStiffness
+            && kept_stiffness.as_ref().is_some_and(|(c, _)| *c == contact);
         if !keep {
             let stiffness: Vec<f64> = rows
                 .springs
@@ -601,7 +574,7 @@ fn equilibrium(
                         return 0.0;
                     }
                     let ks = state.interfaces[s.interface].law.shear_stiffness().unwrap_or(0.0);
-                    let k = match options.scheme {
+                    let k = match options.analysis.scheme {
                         Scheme::ConstantStiffness => ks,
                         Scheme::Newton | Scheme::NewtonSymmetric => r.response.tangent.max(0.0),
                     };
@@ -612,8 +585,8 @@ fn equilibrium(
         }
         let stiffness = &kept_stiffness.as_ref().expect("set above").1;
         // the consistent tangent couples each sliding point's shear to its normal multiplier
-        let coupling: Option<Vec<f64>> =
-            (options.scheme == Scheme::Newton && state.frozen_sigma_n.is_none()).then(|| {
+        let coupling: Option<Vec<f64>> = (options.analysis.scheme == Scheme::Newton && state.frozen_sigma_n.is_none())
+            .then(|| {
                 rows.springs
                     .iter()
                     .zip(&springs)
@@ -675,7 +648,7 @@ fn equilibrium(
         for k in 0..dofs.multipliers.len() {
             state.lambda[k] += scale * x[dofs.multiplier_equation(k)];
         }
-        if options.reassociation != ReassociationRule::None {
+        if options.analysis.reassociation != ReassociationRule::None {
             reassociate::clip_tributaries(&model.mesh, &mut state.interfaces, &state.u);
         }
         let rows = InterfaceRows::new(model, &state.interfaces, dofs);
@@ -688,7 +661,7 @@ fn equilibrium(
         // solve (a first solve that already balances the forces had a linear increment).
         let increment2: f64 = state.u.iter().zip(&u_increment_start).map(|(a, b)| (a - b).powi(2)).sum();
         let displacement_ok = iteration == 1
-            || correction2.sqrt() <= options.displacement_tolerance * increment2.sqrt().max(f64::MIN_POSITIVE);
+            || correction2.sqrt() <= options.analysis.displacement_tolerance * increment2.sqrt().max(f64::MIN_POSITIVE);
         let taus: Vec<f64> = springs.iter().map(|r| r.tau).collect();
         let (residual, reference) = out_of_balance(elements, &rows, &taus, state, dofs);
         if !residual.is_finite() {
@@ -702,7 +675,7 @@ fn equilibrium(
         let gaps = rows.gaps(&state.u);
         let floor = system::round_off_floor(elements, &state.u);
         if changes.is_empty()
-            && residual <= (options.force_tolerance * reference).max(floor)
+            && residual <= (options.analysis.force_tolerance * reference).max(floor)
             && gaps_closed(&gaps, state, dofs, characteristic)
             && displacement_ok
         {
@@ -714,7 +687,7 @@ fn equilibrium(
                 state_changes,
             });
         }
-        if iteration == options.max_iterations {
+        if iteration == options.analysis.max_iterations {
             let mut unsettled: Vec<(usize, usize)> = flips.into_iter().filter(|&(_, n)| n > 1).collect();
             unsettled.sort_by_key(|&(_, n)| std::cmp::Reverse(n));
             let unsettled = unsettled
