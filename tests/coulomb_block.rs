@@ -130,3 +130,22 @@ fn every_scheme_gives_the_coulomb_force_and_newton_converges_fastest() {
         iterations[0]
     );
 }
+
+/// With `freeze_normal_stress`, σn is held at its value at the start of each stage (as programs that
+/// fix σn do): a second surcharge added while the block slides does not raise its strength, which
+/// stays c·A + μ·q·A from the first stage; without the option it rises to c·A + μ·2q·A.
+#[test]
+fn a_frozen_normal_stress_keeps_the_strength_of_the_stage_start() {
+    let mu = (30f64).to_radians().tan();
+    for (freeze, q_effective) in [(true, Q), (false, 2.0 * Q)] {
+        let mut file = block_on_base(0.05);
+        file.stages[1].loads = vec![LoadSpec::EdgeTraction { edge_set: "top".into(), pressure: Q, shear: 0.0 }];
+        file.analysis.freeze_normal_stress = freeze;
+        let model = common::model(&file, "coulomb-block.toml");
+        let c = common::run(&model, Backend::available()[0]);
+        let r = c.last().unwrap();
+        let f: f64 = model.node_sets["block"].iter().map(|&n| r.reaction_vector[2 * n]).sum();
+        let exact = C + mu * q_effective;
+        assert!((f - exact).abs() < 1e-9 * exact, "freeze = {freeze}: F = {f}, expected {exact}");
+    }
+}
