@@ -1,7 +1,7 @@
 //! The geoslip command line.
 
 use clap::{Parser, Subcommand};
-use geoslip::analysis::{self, RunOptions};
+use geoslip::analysis::{self, RunOptions, StepRecord, StepSink};
 use geoslip::linsol::Backend;
 use geoslip::model::Model;
 use geoslip::output::ResultWriter;
@@ -9,10 +9,42 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(Parser)]
-#[command(name = "geoslip", version = version(), about = "Finite-element analysis of soil–geosynthetic interfaces that slip a lot")]
+#[command(
+    name = "geoslip",
+    version = version(),
+    about = "Finite-element analysis of soil–geosynthetic interfaces that slip a lot",
+    after_help = "Exit codes: 0 success; 1 cannot write the results; 2 bad input (model file or flags); \
+                  3 no equilibrium (an increment did not converge); 4 the solver failed (a singular model, \
+                  a backend not in this build)."
+)]
 struct Cli {
+    /// Print only errors: no progress bar, no summary line.
+    #[arg(short, long, global = true, conflicts_with = "verbose")]
+    quiet: bool,
+    /// Print a line per step: iterations, cutbacks, state changes, re-associations.
+    #[arg(short, long, global = true)]
+    verbose: bool,
     #[command(subcommand)]
     command: Command,
+}
+
+/// Exit codes, distinct per kind of failure so that scripts can tell them apart.
+mod exit {
+    pub const WRITE: u8 = 1;
+    pub const BAD_INPUT: u8 = 2;
+    pub const NOT_CONVERGED: u8 = 3;
+    pub const SOLVER: u8 = 4;
+}
+
+fn exit_code(e: &geoslip::Error) -> ExitCode {
+    use geoslip::Error::*;
+    ExitCode::from(match e {
+        Read { .. } | Parse { .. } | Model(_) => exit::BAD_INPUT,
+        NotConverged { .. } => exit::NOT_CONVERGED,
+        Solve { .. } | Backend(_) => exit::SOLVER,
+        Write { .. } => exit::WRITE,
+        _ => exit::WRITE,
+    })
 }
 
 fn version() -> &'static str {
@@ -63,6 +95,7 @@ enum Command {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    let cli_flags = (cli.quiet, cli.verbose);
     match cli.command {
         Command::Schema => {
             println!("{}", geoslip::model::schema());
@@ -78,7 +111,7 @@ fn main() -> ExitCode {
             Ok(()) => ExitCode::SUCCESS,
             Err(e) => {
                 eprintln!("error: {e}");
-                ExitCode::FAILURE
+                ExitCode::from(exit::SOLVER)
             }
         },
         Command::BenchOne { dofs, backend } => {
@@ -105,20 +138,91 @@ fn main() -> ExitCode {
             }
             Err(e) => {
                 eprintln!("error: {e}");
-                ExitCode::FAILURE
+                exit_code(&e)
             }
         },
-        Command::Run { model, solver, out } => match run(&model, solver, out) {
+        Command::Run { model, solver, out } => match run(&model, solver, out, Verbosity::of(&cli_flags)) {
             Ok(()) => ExitCode::SUCCESS,
             Err(e) => {
                 eprintln!("error: {e}");
-                ExitCode::FAILURE
+                exit_code(&e)
             }
         },
     }
 }
 
-fn run(path: &std::path::Path, solver: Backend, out: Option<PathBuf>) -> Result<(), geoslip::Error> {
+#[derive(Clone, Copy, PartialEq)]
+enum Verbosity {
+    Quiet,
+    Normal,
+    Verbose,
+}
+
+impl Verbosity {
+    fn of(&(quiet, verbose): &(bool, bool)) -> Verbosity {
+        if quiet {
+            Verbosity::Quiet
+        } else if verbose {
+            Verbosity::Verbose
+        } else {
+            Verbosity::Normal
+        }
+    }
+}
+
+/// Passes each converged step to the result writer and moves the progress bar.
+struct Progress<'a> {
+    writer: &'a mut ResultWriter,
+    bar: indicatif::ProgressBar,
+    verbosity: Verbosity,
+}
+
+impl StepSink for Progress<'_> {
+    fn step_done(
+        &mut self,
+        results: &geoslip::analysis::results::StepResults,
+        record: &StepRecord,
+        stats: &geoslip::analysis::system::SolverStats,
+    ) -> Result<(), geoslip::Error> {
+        self.writer.step_done(results, record, stats)?;
+        // a cutback adds steps: the bar grows with them
+        let done = self.bar.position() + 1;
+        if self.bar.length().is_some_and(|l| done > l) {
+            self.bar.set_length(done);
+        }
+        self.bar.set_position(done);
+        self.bar.set_message(format!("{} (load factor {:.3})", record.stage, record.load_factor));
+        if self.verbosity == Verbosity::Verbose {
+            let line = format!(
+                "stage \"{}\" step {}: load factor {:.4}, {} iterations, {} cutbacks, force residual {:.1e}, {} sliding of {} in contact, {} state changes, {} re-associations",
+                record.stage,
+                record.step,
+                record.load_factor,
+                record.iterations,
+                record.cutbacks,
+                record.force_residual,
+                record.sliding_points,
+                record.contact_points,
+                record.state_changes.len(),
+                record.reassociations.len()
+            );
+            // a hidden bar (output not a terminal) prints nothing of its own
+            if self.bar.is_hidden() {
+                eprintln!("{line}");
+            } else {
+                self.bar.println(line);
+            }
+        }
+        Ok(())
+    }
+}
+
+fn run(
+    path: &std::path::Path,
+    solver: Backend,
+    out: Option<PathBuf>,
+    verbosity: Verbosity,
+) -> Result<(), geoslip::Error> {
     let started = std::time::Instant::now();
     geoslip::linsol::check_available(solver)?;
     let model = Model::load(path)?;
@@ -127,34 +231,53 @@ fn run(path: &std::path::Path, solver: Backend, out: Option<PathBuf>) -> Result<
     });
     let options = RunOptions::for_model(&model, solver);
     let mut writer = ResultWriter::new(&model, &out, solver.resolve().name())?;
-    for note in &model.notes {
-        eprintln!("note: {note}");
+    if verbosity != Verbosity::Quiet {
+        for note in &model.notes {
+            eprintln!("note: {note}");
+        }
     }
-    let result = analysis::run(&model, &options, &mut writer);
+    let steps: usize = model.stages.iter().map(|s| s.load_factors.len()).sum();
+    // drawn on stderr, and only when it is a terminal
+    let bar = if verbosity == Verbosity::Quiet {
+        indicatif::ProgressBar::hidden()
+    } else {
+        indicatif::ProgressBar::new(steps as u64)
+    };
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("{elapsed_precise} [{bar:30}] {pos}/{len} steps  {msg}")
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    let result = {
+        let mut progress = Progress { writer: &mut writer, bar: bar.clone(), verbosity };
+        analysis::run(&model, &options, &mut progress)
+    };
+    bar.finish_and_clear();
     let seconds = started.elapsed().as_secs_f64();
     match result {
         Ok(stats) => {
             for w in &stats.warnings {
                 eprintln!("warning: {w}");
             }
-            for e in &writer.summary.events {
-                println!("{e}");
+            writer.finish(&model, None, Some(stats), seconds)?;
+            if verbosity != Verbosity::Quiet {
+                for e in &writer.summary.events {
+                    println!("{e}");
+                }
+                let s = &writer.summary;
+                println!(
+                    "{}: {} steps in {:.2} s with {} (max ‖Ax−b‖/‖b‖ {:.1e}); results and report.md in {}",
+                    path.display(),
+                    s.steps.len(),
+                    seconds,
+                    s.solver,
+                    s.solver_stats.max_relative_residual,
+                    out.display()
+                );
             }
-            writer.finish(None, Some(stats), seconds)?;
-            let s = &writer.summary;
-            println!(
-                "{}: {} steps in {:.2} s with {} (max ‖Ax−b‖/‖b‖ {:.1e}); results in {}",
-                path.display(),
-                s.steps.len(),
-                seconds,
-                s.solver,
-                s.solver_stats.max_relative_residual,
-                out.display()
-            );
             Ok(())
         }
         Err(e) => {
-            writer.finish(Some(&e), None, seconds)?;
+            writer.finish(&model, Some(&e), None, seconds)?;
             eprintln!("the {} completed steps are in {}", writer.summary.steps.len(), out.display());
             Err(e)
         }

@@ -136,3 +136,46 @@ fn a_backend_that_is_not_built_in_fails_with_how_to_get_it() {
         assert!(err.contains("not available in this build") && err.contains(package), "{err}");
     }
 }
+
+#[test]
+fn exit_codes_tell_bad_input_from_solver_failures_and_quiet_is_quiet() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let out = tempfile::tempdir().unwrap();
+    // bad input: 2
+    let bad = geoslip().arg("check").arg(root.join("tests/bad-models/several-problems.toml")).output().unwrap();
+    assert_eq!(bad.status.code(), Some(2));
+    let bad_run = geoslip()
+        .args(["run", "--out"])
+        .arg(out.path().join("a"))
+        .arg(root.join("tests/bad-models/unknown-node-in-element.toml"))
+        .output()
+        .unwrap();
+    assert_eq!(bad_run.status.code(), Some(2));
+    // a singular model: the solver failed, 4
+    let singular = geoslip()
+        .args(["-q", "run", "--out"])
+        .arg(out.path().join("b"))
+        .arg(root.join("tests/bad-models/run-singular-hanging-bar.toml"))
+        .output()
+        .unwrap();
+    assert_eq!(singular.status.code(), Some(4));
+    // success, quietly: nothing on stdout, and a report beside the results
+    let ok = geoslip().args(["-q", "run", "--out"]).arg(out.path().join("c")).arg(example()).output().unwrap();
+    assert_eq!(ok.status.code(), Some(0));
+    assert!(ok.stdout.is_empty(), "{}", String::from_utf8_lossy(&ok.stdout));
+    let report = std::fs::read_to_string(out.path().join("c/report.md")).unwrap();
+    for section in [
+        "## Model",
+        "## Key results",
+        "## Events",
+        "## Warnings and notes",
+        "## Convergence history",
+        "## Re-associations",
+    ] {
+        assert!(report.contains(section), "report.md lacks {section}");
+    }
+    // verbose: a line per step
+    let verbose = geoslip().args(["-v", "run", "--out"]).arg(out.path().join("d")).arg(example()).output().unwrap();
+    let text = String::from_utf8_lossy(&verbose.stderr).to_string() + &String::from_utf8_lossy(&verbose.stdout);
+    assert!(text.matches("iterations").count() >= 5, "{text}");
+}

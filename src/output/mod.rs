@@ -4,6 +4,8 @@
 //! never leaves a truncated file under a final name. Each step's files are written as soon as the
 //! step converges, and the summary is rewritten after every step: completed steps are never lost.
 
+pub mod report;
+
 use crate::analysis::results::StepResults;
 use crate::analysis::system::SolverStats;
 use crate::analysis::{StepRecord, StepSink};
@@ -158,15 +160,23 @@ impl ResultWriter {
         write_atomically(&self.out.join("summary.json"), &json)
     }
 
-    /// Mark the run finished (or failed) and write the summary a last time.
-    pub fn finish(&mut self, error: Option<&Error>, stats: Option<SolverStats>, seconds: f64) -> Result<(), Error> {
+    /// Mark the run finished (or failed), write the summary a last time, and the report.
+    pub fn finish(
+        &mut self,
+        model: &Model,
+        error: Option<&Error>,
+        stats: Option<SolverStats>,
+        seconds: f64,
+    ) -> Result<(), Error> {
         self.summary.status = if error.is_some() { "failed".into() } else { "completed".into() };
         self.summary.error = error.map(|e| e.to_string());
         if let Some(s) = stats {
             self.summary.solver_stats = s;
         }
         self.summary.total_seconds = seconds;
-        self.write_summary()
+        self.write_summary()?;
+        let report = report::markdown(model, &self.summary, &self.history, &self.units);
+        write_atomically(&self.out.join("report.md"), report.as_bytes())
     }
 
     fn write_step_files(&self, dir: &Path, r: &StepResults) -> Result<(), Error> {

@@ -1,0 +1,152 @@
+//! `report.md`: what a run did and found, for a reader who opens one file.
+
+use super::RunSummary;
+use crate::model::Model;
+use std::fmt::Write;
+
+/// The Markdown report of a run (finished or failed).
+pub fn markdown(
+    model: &Model,
+    summary: &RunSummary,
+    history: &[Vec<String>],
+    units: &crate::model::UnitLabels,
+) -> String {
+    let mut r = String::new();
+    let _ =
+        writeln!(r, "# geoslip run report: {}", if summary.title.is_empty() { &summary.model } else { &summary.title });
+    let _ = writeln!(r);
+    let _ = writeln!(r, "- Model file: `{}`", summary.model);
+    let _ = writeln!(r, "- geoslip {}; solver backend **{}**", summary.geoslip_version, summary.solver);
+    let _ = writeln!(
+        r,
+        "- Status: **{}**{}",
+        summary.status,
+        summary.error.as_ref().map(|e| format!(": {e}")).unwrap_or_default()
+    );
+    let _ = writeln!(r, "- Units: length {}, force {}, stress {}", units.length, units.force, units.stress);
+    let _ = writeln!(r, "- Wall time: {:.2} s", summary.total_seconds);
+
+    let _ = writeln!(r, "\n## Model\n");
+    let u = &summary.unknowns;
+    let _ = writeln!(r, "| nodes | soil elements | bars | interface points | stages |");
+    let _ = writeln!(r, "|---:|---:|---:|---:|---:|");
+    let _ = writeln!(
+        r,
+        "| {} | {} | {} | {} | {} |",
+        u.nodes,
+        u.soil_elements,
+        u.bars,
+        u.interface_points,
+        model.stages.len()
+    );
+    let _ = writeln!(r, "\n| interface | law | faces | points |");
+    let _ = writeln!(r, "|---|---|---:|---:|");
+    for i in &model.interfaces {
+        let points: usize = i.faces.iter().map(|f| f.points.len()).sum();
+        let _ = writeln!(r, "| {} | {} | {} | {} |", i.name, i.law.name(), i.faces.len(), points);
+    }
+    let a = &model.analysis;
+    let _ = writeln!(
+        r,
+        "\nIteration: `{:?}`, re-association `{:?}`, force tolerance {:e}, at most {} iterations and {} cutbacks per increment.",
+        a.scheme, a.reassociation, a.force_tolerance, a.max_iterations, a.max_cutbacks
+    );
+
+    let _ = writeln!(r, "\n## Key results\n");
+    if history.is_empty() {
+        let _ = writeln!(r, "No prescribed displacement is followed in this model.");
+    } else {
+        let _ = writeln!(
+            r,
+            "| target | direction | final displacement [{}] | final reaction [{}] | peak \\|reaction\\| [{}] |",
+            units.length, units.force_per_width, units.force_per_width
+        );
+        let _ = writeln!(r, "|---|---|---:|---:|---:|");
+        let mut targets: Vec<(String, String)> = history.iter().map(|h| (h[3].clone(), h[4].clone())).collect();
+        targets.dedup();
+        targets.sort();
+        targets.dedup();
+        for (t, d) in targets {
+            let rows: Vec<&Vec<String>> = history.iter().filter(|h| h[3] == t && h[4] == d).collect();
+            let peak = rows.iter().filter_map(|h| h[6].parse::<f64>().ok()).fold(0.0f64, |m, v| m.max(v.abs()));
+            if let Some(last) = rows.last() {
+                let _ = writeln!(r, "| {t} | {d} | {} | {} | {peak:.6e} |", last[5], last[6]);
+            }
+        }
+    }
+    if let Some(last) = summary.steps.last() {
+        for b in &last.balance {
+            let _ = writeln!(
+                r,
+                "\nForce balance of `{}` at the last step: applied ({:.6e}, {:.6e}), carried by its interfaces ({:.6e}, {:.6e}) [{}]; mismatch {:.1e}.",
+                b.interface, b.applied[0], b.applied[1], b.interface_force[0], b.interface_force[1], units.force_per_width, b.mismatch
+            );
+        }
+    }
+
+    let _ = writeln!(r, "\n## Events\n");
+    if summary.events.is_empty() {
+        let _ = writeln!(r, "None.");
+    }
+    for e in &summary.events {
+        let _ = writeln!(r, "- {e}");
+    }
+
+    let _ = writeln!(r, "\n## Warnings and notes\n");
+    let warnings: Vec<&String> = summary.solver_stats.warnings.iter().chain(&summary.notes).collect();
+    if warnings.is_empty() {
+        let _ = writeln!(r, "None.");
+    }
+    for w in warnings {
+        let _ = writeln!(r, "- {w}");
+    }
+
+    let _ = writeln!(r, "\n## Convergence history\n");
+    let _ = writeln!(r, "| stage | step | load factor | iterations | cutbacks | force residual | max ‖Ax−b‖/‖b‖ | sliding / in contact | state changes | re-associations |");
+    let _ = writeln!(r, "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
+    for s in &summary.steps {
+        let lin = s.linear_residuals.iter().cloned().fold(0.0f64, f64::max);
+        let _ = writeln!(
+            r,
+            "| {} | {} | {:.4} | {} | {} | {:.1e} | {:.1e} | {} / {} | {} | {} |",
+            s.stage,
+            s.step,
+            s.load_factor,
+            s.iterations,
+            s.cutbacks,
+            s.force_residual,
+            lin,
+            s.sliding_points,
+            s.contact_points,
+            s.state_changes.len(),
+            s.reassociations.len()
+        );
+    }
+    let st = &summary.solver_stats;
+    let _ = writeln!(
+        r,
+        "\nLinear algebra: {} analyses ({:.3} s), {} factorisations ({:.3} s), {} solves ({:.3} s); largest relative residual {:.1e}.",
+        st.analyses, st.analyse_seconds, st.factorizations, st.factorize_seconds, st.solves, st.solve_seconds, st.max_relative_residual
+    );
+
+    let _ = writeln!(r, "\n## Re-associations\n");
+    let total: usize = summary.steps.iter().map(|s| s.reassociations.len()).sum();
+    let _ = writeln!(r, "{total} in all; the first ones:\n");
+    for (s, ra) in summary.steps.iter().flat_map(|s| s.reassociations.iter().map(move |ra| (s, ra))).take(30) {
+        let seg = |v: &Option<[u64; 2]>| v.map(|[a, b]| format!("{a}–{b}")).unwrap_or_else(|| "out of contact".into());
+        let _ = writeln!(
+            r,
+            "- stage \"{}\" step {}: `{}` {} face, node {}: {} → {} (ξ = {:.3})",
+            s.stage,
+            s.step,
+            ra.interface,
+            ra.face,
+            ra.slave_node,
+            seg(&ra.from),
+            seg(&ra.to),
+            ra.xi
+        );
+    }
+    let _ = writeln!(r, "\nEvery step's files are in `stage-<k>-<name>/step-<nnn>/`; `history.csv` holds the curves, `summary.json` all of the above.");
+    r
+}
