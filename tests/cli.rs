@@ -179,3 +179,26 @@ fn exit_codes_tell_bad_input_from_solver_failures_and_quiet_is_quiet() {
     let text = String::from_utf8_lossy(&verbose.stderr).to_string() + &String::from_utf8_lossy(&verbose.stdout);
     assert!(text.matches("iterations").count() >= 5, "{text}");
 }
+
+/// The plots a run writes: the pull-out curve and the profiles along the reinforcement, as PNG and
+/// SVG, with units on the axes, and embedded in report.md.
+#[test]
+fn a_run_writes_its_plots_and_embeds_them_in_the_report() {
+    let out = tempfile::tempdir().unwrap();
+    let status = geoslip().args(["-q", "run", "--out"]).arg(out.path()).arg(example()).status().unwrap();
+    assert!(status.success());
+    for stem in ["pullout", "profiles-grid"] {
+        let png = std::fs::read(out.path().join(format!("{stem}.png"))).unwrap();
+        assert!(png.starts_with(b"\x89PNG\r\n\x1a\n") && png.len() > 10_000, "{stem}.png is not a PNG image");
+        let svg = std::fs::read_to_string(out.path().join(format!("{stem}.svg"))).unwrap();
+        assert!(svg.starts_with("<svg") && svg.contains("</svg>"));
+    }
+    let svg = std::fs::read_to_string(out.path().join("pullout.svg")).unwrap();
+    assert!(svg.contains("[kN/m]") && svg.contains("[m]"), "axis labels carry units");
+    let profiles = std::fs::read_to_string(out.path().join("profiles-grid.svg")).unwrap();
+    for label in ["T [kN/m]", "ux [m]", "τ [kPa]", "σn [kPa]"] {
+        assert!(profiles.contains(label), "profiles lack {label}");
+    }
+    let report = std::fs::read_to_string(out.path().join("report.md")).unwrap();
+    assert!(report.contains("(pullout.png)") && report.contains("(profiles-grid.png)"));
+}

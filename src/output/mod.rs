@@ -4,6 +4,7 @@
 //! never leaves a truncated file under a final name. Each step's files are written as soon as the
 //! step converges, and the summary is rewritten after every step: completed steps are never lost.
 
+pub mod plots;
 pub mod report;
 
 use crate::analysis::results::StepResults;
@@ -62,7 +63,28 @@ pub struct ResultWriter {
     peak_reaction: Vec<(f64, bool)>,
     slip_started: bool,
     all_sliding: bool,
+    /// Profiles along each reinforcement, per step, for the plots.
+    profiles: Vec<StepProfile>,
+    /// Steps worth plotting: where slip starts, where everything slides.
+    marked_steps: Vec<usize>,
+    /// Each reinforcement interface and the ids of its nodes.
+    reinforcements: Vec<(String, std::collections::HashSet<u64>)>,
     pub summary: RunSummary,
+}
+
+/// T(x), u(x), τ(x) and σn(x) along one reinforcement at one step.
+#[derive(Debug, Clone)]
+struct ReinforcementProfile {
+    tension: Vec<(f64, f64)>,
+    displacement: Vec<(f64, f64)>,
+    shear: Vec<(f64, f64)>,
+    normal: Vec<(f64, f64)>,
+}
+
+#[derive(Debug, Clone)]
+struct StepProfile {
+    label: String,
+    reinforcements: Vec<ReinforcementProfile>,
 }
 
 /// The JSON run summary.
@@ -120,6 +142,20 @@ impl ResultWriter {
             history: Vec::new(),
             slip_started: false,
             all_sliding: false,
+            profiles: Vec::new(),
+            marked_steps: Vec::new(),
+            reinforcements: model
+                .interfaces
+                .iter()
+                .filter_map(|i| {
+                    model.node_sets.get(&format!("{}.reinforcement", i.name)).map(|nodes| {
+                        (
+                            i.name.clone(),
+                            nodes.iter().map(|&n| model.mesh.node_id(n)).collect::<std::collections::HashSet<u64>>(),
+                        )
+                    })
+                })
+                .collect(),
             summary: RunSummary {
                 geoslip_version: env!("CARGO_PKG_VERSION"),
                 model: model.source.display().to_string(),
@@ -175,7 +211,8 @@ impl ResultWriter {
         }
         self.summary.total_seconds = seconds;
         self.write_summary()?;
-        let report = report::markdown(model, &self.summary, &self.history, &self.units);
+        let figures = self.write_plots()?;
+        let report = report::markdown(model, &self.summary, &self.history, &self.units, &figures);
         write_atomically(&self.out.join("report.md"), report.as_bytes())
     }
 
@@ -301,12 +338,14 @@ impl StepSink for ResultWriter {
         let when = format!("stage \"{}\" step {} (load factor {:.4})", record.stage, record.step, record.load_factor);
         if !self.slip_started && record.sliding_points > 0 {
             self.slip_started = true;
+            self.marked_steps.push(self.summary.steps.len());
             self.summary
                 .events
                 .push(format!("{when}: slip starts ({} interface points at their strength)", record.sliding_points));
         }
         if !self.all_sliding && record.contact_points > 0 && record.sliding_points == record.contact_points {
             self.all_sliding = true;
+            self.marked_steps.push(self.summary.steps.len());
             self.summary.events.push(format!("{when}: every interface point in contact slides"));
         }
         for (ti, t) in self.targets.iter().enumerate() {
@@ -348,8 +387,108 @@ impl StepSink for ResultWriter {
             format!("reaction [{}]", u.force_per_width),
         ];
         write_atomically(&self.out.join("history.csv"), &csv_bytes(&header, self.history.iter().cloned()))?;
+        self.profiles.push(StepProfile {
+            label: format!("{} step {}", record.stage, record.step),
+            reinforcements: self.reinforcements.iter().map(|(name, nodes)| profile(name, nodes, results)).collect(),
+        });
         self.summary.steps.push(record.clone());
         self.summary.solver_stats = stats.clone();
         self.write_summary()
+    }
+}
+
+fn profile(name: &str, nodes: &std::collections::HashSet<u64>, r: &StepResults) -> ReinforcementProfile {
+    let mut tension: Vec<(f64, f64)> = r
+        .bar_forces
+        .iter()
+        .filter(|b| nodes.contains(&b.nodes[0]) && nodes.contains(&b.nodes[1]))
+        .map(|b| (b.midpoint[0], b.axial_force))
+        .collect();
+    let mut displacement: Vec<(f64, f64)> =
+        r.displacements.iter().filter(|(id, _, _)| nodes.contains(id)).map(|(_, x, u)| (x[0], u[0])).collect();
+    let upper = |p: &&crate::analysis::results::InterfacePointResult| {
+        p.interface == name && p.face == "upper" && p.state != "outside"
+    };
+    let mut shear: Vec<(f64, f64)> = r.interface_points.iter().filter(upper).map(|p| (p.x[0], p.tau)).collect();
+    let mut normal: Vec<(f64, f64)> =
+        r.interface_points.iter().filter(upper).filter(|p| p.tributary > 0.0).map(|p| (p.x[0], p.sigma_n)).collect();
+    for v in [&mut tension, &mut displacement, &mut shear, &mut normal] {
+        v.sort_by(|a, b| a.0.total_cmp(&b.0));
+    }
+    ReinforcementProfile { tension, displacement, shear, normal }
+}
+
+impl ResultWriter {
+    /// The pull-out curves and the profiles along each reinforcement; returns the figure stems.
+    fn write_plots(&self) -> Result<Vec<(String, String)>, Error> {
+        let u = &self.units;
+        let mut figures = Vec::new();
+        // pull-out curves: one panel per prescribed target
+        let mut panels = Vec::new();
+        for t in &self.targets {
+            let dir = if t.direction == Direction::X { "x" } else { "y" };
+            let points: Vec<(f64, f64)> = self
+                .history
+                .iter()
+                .filter(|h| h[3] == t.label && h[4] == dir)
+                .filter_map(|h| Some((h[5].parse::<f64>().ok()?.abs(), h[6].parse::<f64>().ok()?.abs())))
+                .collect();
+            panels.push(plots::Panel {
+                title: format!("{} ({dir}): force against displacement", t.label),
+                x_label: format!("|displacement| [{}]", u.length),
+                y_label: format!("|reaction| [{}]", u.force_per_width),
+                series: vec![(String::new(), points)],
+            });
+        }
+        if !panels.is_empty() {
+            plots::write_figure(&self.out, "pullout", &panels, panels.len().min(2))?;
+            figures.push(("pullout".to_string(), "Force against displacement of each prescribed target".to_string()));
+        }
+        // profiles at the marked steps and the last one
+        let mut chosen: Vec<usize> = self.marked_steps.clone();
+        if let Some(last) = self.profiles.len().checked_sub(1) {
+            chosen.push(last);
+        }
+        chosen.sort_unstable();
+        chosen.dedup();
+        for (k, (name, _)) in self.reinforcements.iter().enumerate() {
+            let series = |pick: &dyn Fn(&ReinforcementProfile) -> Vec<(f64, f64)>| -> Vec<plots::Series> {
+                chosen
+                    .iter()
+                    .map(|&s| (self.profiles[s].label.clone(), pick(&self.profiles[s].reinforcements[k])))
+                    .collect()
+            };
+            let x = format!("x [{}]", u.length);
+            let panels = vec![
+                plots::Panel {
+                    title: format!("{name}: tension T(x)"),
+                    x_label: x.clone(),
+                    y_label: format!("T [{}]", u.force_per_width),
+                    series: series(&|p| p.tension.clone()),
+                },
+                plots::Panel {
+                    title: format!("{name}: displacement u(x)"),
+                    x_label: x.clone(),
+                    y_label: format!("ux [{}]", u.length),
+                    series: series(&|p| p.displacement.clone()),
+                },
+                plots::Panel {
+                    title: format!("{name}: shear stress τ(x), upper face"),
+                    x_label: x.clone(),
+                    y_label: format!("τ [{}]", u.stress),
+                    series: series(&|p| p.shear.clone()),
+                },
+                plots::Panel {
+                    title: format!("{name}: normal stress σn(x), upper face"),
+                    x_label: x,
+                    y_label: format!("σn [{}]", u.stress),
+                    series: series(&|p| p.normal.clone()),
+                },
+            ];
+            let stem = format!("profiles-{}", name.replace(|c: char| !c.is_ascii_alphanumeric() && c != '-', "-"));
+            plots::write_figure(&self.out, &stem, &panels, 2)?;
+            figures.push((stem, format!("T(x), u(x), τ(x) and σn(x) along {name}")));
+        }
+        Ok(figures)
     }
 }

@@ -10,6 +10,7 @@ pub fn markdown(
     summary: &RunSummary,
     history: &[Vec<String>],
     units: &crate::model::UnitLabels,
+    figures: &[(String, String)],
 ) -> String {
     let mut r = String::new();
     let _ =
@@ -82,6 +83,10 @@ pub fn markdown(
                 b.interface, b.applied[0], b.applied[1], b.interface_force[0], b.interface_force[1], units.force_per_width, b.mismatch
             );
         }
+    }
+
+    for (stem, caption) in figures {
+        let _ = writeln!(r, "\n![{caption}]({stem}.png)\n\n*{caption}* ([SVG]({stem}.svg))");
     }
 
     let _ = writeln!(r, "\n## Events\n");

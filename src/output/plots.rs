@@ -1,0 +1,135 @@
+//! Plots written on every run, PNG and SVG (plotters, with a bundled DejaVu font so that no system
+//! font library is needed): the pull-out curve of each prescribed target, and T(x), u(x), τ(x) and
+//! σn(x) along each reinforcement at chosen steps (the paper's Figs. 5, 6, 8, 9 and 10).
+
+use super::write_atomically;
+use crate::error::Error;
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use std::path::Path;
+use std::sync::Once;
+
+/// One curve: a label and its points.
+pub type Series = (String, Vec<(f64, f64)>);
+
+/// One panel: title, axis labels (with units) and curves.
+pub struct Panel {
+    pub title: String,
+    pub x_label: String,
+    pub y_label: String,
+    pub series: Vec<Series>,
+}
+
+static FONT: Once = Once::new();
+
+fn register_font() {
+    FONT.call_once(|| {
+        // The bundled font is valid TrueType; failing to register it only costs the labels.
+        let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, dejavu::sans::regular());
+    });
+}
+
+const COLOURS: [RGBColor; 6] = [
+    RGBColor(31, 119, 180),
+    RGBColor(214, 39, 40),
+    RGBColor(44, 160, 44),
+    RGBColor(255, 127, 14),
+    RGBColor(148, 103, 189),
+    RGBColor(23, 190, 207),
+];
+
+fn bounds(series: &[Series]) -> ((f64, f64), (f64, f64)) {
+    let pts = series.iter().flat_map(|(_, p)| p.iter());
+    let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+    for &(x, y) in pts {
+        if x.is_finite() && y.is_finite() {
+            x0 = x0.min(x);
+            x1 = x1.max(x);
+            y0 = y0.min(y);
+            y1 = y1.max(y);
+        }
+    }
+    if x0 > x1 {
+        return ((0.0, 1.0), (0.0, 1.0));
+    }
+    let pad = |a: f64, b: f64| {
+        let d = if (b - a).abs() > 1e-300 { 0.05 * (b - a) } else { 0.5 * a.abs().max(1.0) };
+        (a - d, b + d)
+    };
+    (pad(x0, x1), pad(y0.min(0.0), y1.max(0.0)))
+}
+
+fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, panel: &Panel) -> Result<(), String> {
+    let ((x0, x1), (y0, y1)) = bounds(&panel.series);
+    let mut chart = ChartBuilder::on(area)
+        .caption(&panel.title, ("sans-serif", 20))
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(70)
+        .build_cartesian_2d(x0..x1, y0..y1)
+        .map_err(|e| e.to_string())?;
+    chart
+        .configure_mesh()
+        .x_desc(&panel.x_label)
+        .y_desc(&panel.y_label)
+        .label_style(("sans-serif", 14))
+        .axis_desc_style(("sans-serif", 15))
+        .draw()
+        .map_err(|e| e.to_string())?;
+    for (k, (label, points)) in panel.series.iter().enumerate() {
+        let colour = COLOURS[k % COLOURS.len()];
+        chart
+            .draw_series(LineSeries::new(points.iter().copied(), colour.stroke_width(2)))
+            .map_err(|e| e.to_string())?
+            .label(label.as_str())
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], colour.stroke_width(2)));
+        chart.draw_series(points.iter().map(|&p| Circle::new(p, 2, colour.filled()))).map_err(|e| e.to_string())?;
+    }
+    if panel.series.len() > 1 || panel.series.iter().any(|(l, _)| !l.is_empty()) {
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .label_font(("sans-serif", 13))
+            .draw()
+            .map_err(|e| e.to_string())?;
+    }
+    Ok(())
+}
+
+fn draw_all<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, panels: &[Panel], columns: usize) -> Result<(), String> {
+    root.fill(&WHITE).map_err(|e| e.to_string())?;
+    let rows = panels.len().div_ceil(columns).max(1);
+    let areas = root.split_evenly((rows, columns));
+    for (area, panel) in areas.iter().zip(panels) {
+        draw_panel(area, panel)?;
+    }
+    root.present().map_err(|e| e.to_string())
+}
+
+/// Write `stem.png` and `stem.svg` in `dir` with the panels on a grid of `columns`.
+///
+/// # Errors
+/// [`Error::Write`] naming the file.
+pub fn write_figure(dir: &Path, stem: &str, panels: &[Panel], columns: usize) -> Result<(), Error> {
+    register_font();
+    let columns = columns.max(1);
+    let rows = panels.len().div_ceil(columns).max(1);
+    let size = (640 * columns as u32, 440 * rows as u32);
+    let fail = |path: &Path, message: String| Error::Write {
+        path: path.to_path_buf(),
+        source: std::io::Error::other(message),
+    };
+    // SVG: drawn to a string, written atomically
+    let svg_path = dir.join(format!("{stem}.svg"));
+    let mut svg = String::new();
+    draw_all(SVGBackend::with_string(&mut svg, size).into_drawing_area(), panels, columns)
+        .map_err(|m| fail(&svg_path, m))?;
+    write_atomically(&svg_path, svg.as_bytes())?;
+    // PNG: drawn to a temporary file in the same folder, then renamed into place
+    let png_path = dir.join(format!("{stem}.png"));
+    let tmp = dir.join(format!(".partial-{stem}.png"));
+    draw_all(BitMapBackend::new(&tmp, size).into_drawing_area(), panels, columns).map_err(|m| fail(&png_path, m))?;
+    std::fs::rename(&tmp, &png_path).map_err(|source| Error::Write { path: png_path.clone(), source })?;
+    Ok(())
+}
