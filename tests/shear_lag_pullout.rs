@@ -19,9 +19,7 @@
 mod common;
 
 use geoslip::linsol::Backend;
-use geoslip::meshgen::{support, Block};
 use geoslip::model::file::*;
-use std::collections::BTreeMap;
 
 const EA: f64 = 1000.0;
 const KS: f64 = 2000.0;
@@ -34,54 +32,19 @@ fn exact_head_stiffness() -> f64 {
 }
 
 fn bar_on_rigid_bed(control: &str) -> ModelFile {
-    let block = Block::new(SolidKind::Quad4, (0.0, -0.1), (L, 0.2), (20, 2), "bed", 1, 1);
-    let path: Vec<u64> = (0..=20).map(|i| block.node(i, 1)).collect();
-    let mut node_sets = BTreeMap::new();
-    node_sets.insert("soil".into(), block.nodes.iter().map(|n| n.0).collect());
-    let mut soil = BTreeMap::new();
-    soil.insert("bed".into(), SoilMaterial { youngs_modulus: 1.0e5, poissons_ratio: 0.3, unit_weight: 0.0 });
-    let mut reinforcement = BTreeMap::new();
-    reinforcement.insert(
-        "grid".into(),
-        ReinforcementMaterial { axial_stiffness: EA, tension_only: false, rupture_strength: None },
-    );
-    let (loads, prescribed) = if control == "load" {
-        (vec![LoadSpec::Point { node: None, nodes: None, set: Some("grid.head".into()), fx: -P, fy: 0.0 }], vec![])
+    // 20 bars of EA through a fixed soil block; the closed form holds the embedded length fixed:
+    // small slip, no re-association
+    let law = ShearLawSpec::Linear { shear_stiffness: KS };
+    let mut file = common::slip::bar_in_rigid_soil(L, 20, EA, law, 0.0, 1, ReassociationRule::None);
+    let head = Some("grid.head".to_string());
+    let stage = &mut file.stages[0];
+    if control == "load" {
+        stage.prescribed.clear();
+        stage.loads = vec![LoadSpec::Point { node: None, nodes: None, set: head, fx: -P, fy: 0.0 }];
     } else {
-        let u = P / exact_head_stiffness();
-        (
-            vec![],
-            vec![PrescribedDisplacement {
-                node: None,
-                nodes: None,
-                set: Some("grid.head".into()),
-                ux: Some(-u),
-                uy: None,
-            }],
-        )
-    };
-    ModelFile {
-        title: "shear-lag pull-out on a rigid bed".into(),
-        units: Units { length: LengthUnit::Metre, force: ForceUnit::Kilonewton },
-        materials: Materials { soil, reinforcement },
-        nodes: block.nodes,
-        elements: block.elements,
-        bars: Vec::new(),
-        node_sets,
-        edge_sets: BTreeMap::new(),
-        supports: vec![support("soil", &[Direction::X, Direction::Y])],
-        interfaces: vec![InterfaceSpec {
-            name: "grid".into(),
-            reinforcement: Some(ReinforcementPath { path, material: "grid".into() }),
-            slave: None,
-            master: None,
-            master_normal: None,
-            law: ShearLawSpec::Linear { shear_stiffness: KS },
-        }],
-        stages: vec![Stage { name: "pull".into(), load_factors: vec![1.0], loads, prescribed }],
-        // the closed form holds the embedded length fixed: small slip, no re-association
-        analysis: AnalysisSettings { reassociation: ReassociationRule::None, ..AnalysisSettings::default() },
+        stage.prescribed[0].ux = Some(-P / exact_head_stiffness());
     }
+    file
 }
 
 fn head_and_tail(c: &geoslip::analysis::Collect, model: &geoslip::model::Model) -> (f64, f64) {

@@ -492,7 +492,7 @@ fn normal_stress(state: &State, rows: &InterfaceRows, spring: &system::Spring) -
 }
 
 /// Evaluate every spring's law at the current displacements.
-fn evaluate_springs(model: &Model, state: &State, rows: &InterfaceRows) -> Vec<SpringResult> {
+fn evaluate_springs(state: &State, rows: &InterfaceRows) -> Vec<SpringResult> {
     rows.springs
         .iter()
         .enumerate()
@@ -515,7 +515,6 @@ fn evaluate_springs(model: &Model, state: &State, rows: &InterfaceRows) -> Vec<S
                 st.tau = 0.0;
                 ShearResponse { tau: 0.0, tangent: 0.0, d_tau_d_sigma: 0.0, state: st, sliding: false }
             };
-            let _ = model;
             SpringResult {
                 interface: s.interface,
                 face: s.face,
@@ -552,7 +551,7 @@ fn equilibrium(
         }
         state_changes.extend(hold_free_reinforcement_nodes(model, state, dofs, bar_only));
         let rows = InterfaceRows::new(model, &state.interfaces, dofs);
-        let springs = evaluate_springs(model, state, &rows);
+        let springs = evaluate_springs(state, &rows);
         // Constant stiffness (the paper's Fig. 3): Ks·ℓ as the increment found it, kept while the
         // contact states stay, so the factorisation is reused and each iteration costs one solve.
         // Newton: the law's tangent at the current iterate.
@@ -652,7 +651,7 @@ fn equilibrium(
             reassociate::clip_tributaries(&model.mesh, &mut state.interfaces, &state.u);
         }
         let rows = InterfaceRows::new(model, &state.interfaces, dofs);
-        let springs = evaluate_springs(model, state, &rows);
+        let springs = evaluate_springs(state, &rows);
         let mut changes = update_active_set(model, state, &rows, dofs, bar_only, characteristic, &mut flips);
         changes.extend(rupture_bars(elements, state));
         state_changes.extend(changes.iter().cloned());
@@ -924,7 +923,7 @@ pub fn first_system(model: &Model) -> (usize, IterationSystem) {
         ruptured: vec![false; model.mesh.bars.len()],
     };
     let rows = InterfaceRows::new(model, &state.interfaces, &dofs);
-    let springs = evaluate_springs(model, &state, &rows);
+    let springs = evaluate_springs(&state, &rows);
     let stiffness: Vec<f64> = rows
         .springs
         .iter()

@@ -87,21 +87,10 @@ impl Mumps {
     /// # Errors
     /// A backend error with MUMPS's message, or a version mismatch.
     pub fn new(symmetric: bool, ordering: Ordering) -> Result<Mumps, SolveError> {
-        // SAFETY: DMUMPS_STRUC_C is a plain C struct of integers, floats, arrays and pointers, for
-        // which all-zero is a valid value; MUMPS initialises it in JOB = −1.
-        let mut id: Box<ffi::DMUMPS_STRUC_C> = Box::new(unsafe { std::mem::zeroed() });
-        id.comm_fortran = USE_COMM_WORLD;
-        id.par = 1;
-        id.sym = if symmetric { 2 } else { 0 };
-        id.job = -1;
-        call(&mut id);
-        let code = infog(&id, 1);
-        if code < 0 {
-            let message = mumps_message(code, infog(&id, 2) as i64);
-            // JOB = −1 failed: there is nothing to terminate.
-            std::mem::forget(id);
-            return Err(SolveError::Backend { backend: "mumps", message: format!("initialisation: {message}") });
-        }
+        let id = start_instance(symmetric).map_err(|(code, info2)| SolveError::Backend {
+            backend: "mumps",
+            message: format!("initialisation: {}", mumps_message(code, info2)),
+        })?;
         let mut mumps = Mumps {
             id,
             symmetric,
@@ -166,6 +155,26 @@ impl Mumps {
         icntl(id, 14, self.workspace_percent);
         icntl(id, 24, 1); // null-pivot detection
     }
+}
+
+/// A new MUMPS instance (JOB = −1), or INFOG(1) and INFOG(2) when that fails.
+fn start_instance(symmetric: bool) -> Result<Box<ffi::DMUMPS_STRUC_C>, (i32, i64)> {
+    // SAFETY: DMUMPS_STRUC_C is a plain C struct of integers, floats, arrays and pointers, for which
+    // all-zero is a valid value; MUMPS initialises it in JOB = −1.
+    let mut id: Box<ffi::DMUMPS_STRUC_C> = Box::new(unsafe { std::mem::zeroed() });
+    id.comm_fortran = USE_COMM_WORLD;
+    id.par = 1;
+    id.sym = if symmetric { 2 } else { 0 };
+    id.job = -1;
+    call(&mut id);
+    let code = infog(&id, 1);
+    if code < 0 {
+        let info2 = infog(&id, 2) as i64;
+        // JOB = −1 failed: there is no instance to terminate.
+        std::mem::forget(id);
+        return Err((code, info2));
+    }
+    Ok(id)
 }
 
 /// The one place that enters MUMPS: under the global lock.
@@ -325,16 +334,10 @@ unsafe impl Send for Mumps {}
 /// `geoslip bench` measures the wrapper against it. Returns INFOG(1) of the first failing phase (0
 /// on success); `rhs` holds the solution.
 pub fn bare_run(symmetric: bool, n: usize, irn: &mut [i32], jcn: &mut [i32], a: &mut [f64], rhs: &mut [f64]) -> i32 {
-    // SAFETY: as in `Mumps::new`: all-zero is a valid DMUMPS_STRUC_C before JOB = −1.
-    let mut id: Box<ffi::DMUMPS_STRUC_C> = Box::new(unsafe { std::mem::zeroed() });
-    id.comm_fortran = USE_COMM_WORLD;
-    id.par = 1;
-    id.sym = if symmetric { 2 } else { 0 };
-    id.job = -1;
-    call(&mut id);
-    if infog(&id, 1) < 0 {
-        return infog(&id, 1);
-    }
+    let mut id = match start_instance(symmetric) {
+        Ok(id) => id,
+        Err((code, _)) => return code,
+    };
     for (i, v) in [(1, -1), (2, -1), (3, -1), (4, 0), (7, Ordering::Scotch as i32), (8, 7), (13, 1), (14, 20), (24, 1)]
     {
         icntl(&mut id, i, v);
