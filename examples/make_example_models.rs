@@ -98,7 +98,7 @@ fn paper_block() -> ModelFile {
         supports: vec![support("base", &[Direction::X, Direction::Y]), support("sides", &[Direction::X])],
         interfaces: vec![InterfaceSpec {
             name: "reinforcement".into(),
-            reinforcement: Some(ReinforcementPath { path, material: "geosynthetic".into() }),
+            reinforcement: Some(ReinforcementPath { path, line: None, head: None, material: "geosynthetic".into() }),
             slave: None,
             master: None,
             master_normal: None,
@@ -108,7 +108,7 @@ fn paper_block() -> ModelFile {
             Stage {
                 name: "surface traction".into(),
                 load_factors: vec![1.0],
-                loads: vec![LoadSpec::EdgeTraction { edge_set: "top".into(), pressure: 2.0, shear: 0.0 }],
+                loads: vec![LoadSpec::EdgeTraction { name: None, edge_set: "top".into(), pressure: 2.0, shear: 0.0 }],
                 prescribed: Vec::new(),
             },
             Stage {
@@ -125,6 +125,8 @@ fn paper_block() -> ModelFile {
             },
         ],
         analysis: AnalysisSettings { reassociation: ReassociationRule::NearestNode, ..AnalysisSettings::default() },
+        mesh: None,
+        series: None,
     }
 }
 

@@ -2,7 +2,9 @@
 # The whole test suite, with every solver backend.
 #
 # On Debian 12 as root it first installs what the native backends need (MUMPS sequential, UMFPACK,
-# libclang for bindgen, OpenBLAS as the BLAS alternative). It then tests
+# libclang for bindgen, OpenBLAS as the BLAS alternative), and what the tests run beside geoslip:
+# Gmsh (meshes the examples' .geo files) and VTK's Python module (reads the ParaView output back).
+# It then tests
 #   1. the full build, which must have MUMPS and UMFPACK when the packages are installed, and
 #   2. a build with no native libraries (GEOSLIP_NO_NATIVE=1), which runs on faer and dense.
 # This is the command the README gives and the one CI runs (.ci/run).
@@ -10,10 +12,11 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 packages=(libmumps-seq-dev libsuitesparse-dev libclang-dev libopenblas0-pthread)
+tools=(gmsh python3-vtk9)
 native_expected=0
 if [ -r /etc/debian_version ] && command -v apt-get >/dev/null 2>&1; then
   missing=()
-  for p in "${packages[@]}"; do
+  for p in "${packages[@]}" "${tools[@]}"; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
   done
   if [ ${#missing[@]} -gt 0 ]; then

@@ -19,6 +19,7 @@ pub mod bench;
 pub mod dofs;
 pub mod element;
 pub mod error;
+pub mod gmsh;
 pub mod interface;
 pub mod linsol;
 pub mod mesh;

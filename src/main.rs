@@ -3,7 +3,7 @@
 use clap::{Parser, Subcommand};
 use geoslip::analysis::{self, RunOptions, StepRecord, StepSink};
 use geoslip::linsol::Backend;
-use geoslip::model::Model;
+use geoslip::model::{Case, Model};
 use geoslip::output::ResultWriter;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -217,18 +217,90 @@ impl StepSink for Progress<'_> {
     }
 }
 
+/// Run a model, or each run of its series and then the series summary.
 fn run(
     path: &std::path::Path,
     solver: Backend,
     out: Option<PathBuf>,
     verbosity: Verbosity,
 ) -> Result<(), geoslip::Error> {
-    let started = std::time::Instant::now();
     geoslip::linsol::check_available(solver)?;
-    let model = Model::load(path)?;
+    let cases = Model::load_cases(path)?;
     let out = out.unwrap_or_else(|| {
         PathBuf::from("results").join(path.file_stem().map(|s| s.to_os_string()).unwrap_or_else(|| "model".into()))
     });
+    let [Case { label: None, model, .. }] = cases.as_slice() else {
+        return run_series(path, &cases, solver, &out, verbosity);
+    };
+    run_case(path, model, solver, &out, verbosity, &mut Vec::new())
+}
+
+/// Each run of a series in a folder of its own, then `series.csv`, the envelope plot and the report.
+fn run_series(
+    path: &std::path::Path,
+    cases: &[Case],
+    solver: Backend,
+    out: &std::path::Path,
+    verbosity: Verbosity,
+) -> Result<(), geoslip::Error> {
+    use geoslip::output::series::{self, CaseOutcome, PulloutReference};
+    let mut outcomes = Vec::new();
+    let mut first_error = None;
+    let mut pullout = None;
+    for case in cases {
+        let label = case.label.clone().unwrap_or_default();
+        if verbosity != Verbosity::Quiet {
+            println!("— run {label} —");
+        }
+        let mut peaks = Vec::new();
+        let error = match run_case(path, &case.model, solver, &out.join(&label), verbosity, &mut peaks) {
+            Ok(()) => None,
+            Err(e) => {
+                let message = e.to_string();
+                first_error.get_or_insert(e);
+                Some(message)
+            }
+        };
+        if pullout.is_none() {
+            pullout = PulloutReference::of(&case.model, &peaks);
+        }
+        outcomes.push(CaseOutcome { folder: label.clone(), label, value: case.value.unwrap_or(0.0), peaks, error });
+    }
+    let load = cases[0].load.clone().unwrap_or_else(|| "load".to_string());
+    let summary = series::write(out, path, &load, &cases[0].model.unit_labels(), outcomes, pullout)?;
+    if verbosity != Verbosity::Quiet {
+        if let (Some(p), Some(e)) = (&summary.pullout, &summary.envelope) {
+            println!(
+                "{}: apparent interface friction angle {:.2}° (input {:.2}°), apparent adhesion {:.3}; series report in {}",
+                path.display(),
+                e.apparent_friction_angle_deg,
+                p.friction_angle_deg,
+                e.apparent_adhesion,
+                out.join("report.md").display()
+            );
+        } else {
+            println!("{}: series report in {}", path.display(), out.join("report.md").display());
+        }
+    }
+    match first_error {
+        Some(e) => Err(e),
+        None => Ok(()),
+    }
+}
+
+/// Run one model into `out`; `peaks` receives the peak reaction of each prescribed target, also when
+/// the run stops early.
+fn run_case(
+    path: &std::path::Path,
+    model: &Model,
+    solver: Backend,
+    out: &std::path::Path,
+    verbosity: Verbosity,
+    peaks: &mut Vec<geoslip::output::TargetPeak>,
+) -> Result<(), geoslip::Error> {
+    let started = std::time::Instant::now();
+    let model = model.clone();
+    let out = out.to_path_buf();
     let options = RunOptions::for_model(&model, solver);
     let mut writer = ResultWriter::new(&model, &out, solver.resolve().name())?;
     if verbosity != Verbosity::Quiet {
@@ -274,11 +346,13 @@ fn run(
                     out.display()
                 );
             }
+            *peaks = writer.peak_reactions();
             Ok(())
         }
         Err(e) => {
             writer.finish(&model, Some(&e), None, seconds)?;
             eprintln!("the {} completed steps are in {}", writer.summary.steps.len(), out.display());
+            *peaks = writer.peak_reactions();
             Err(e)
         }
     }

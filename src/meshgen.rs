@@ -220,7 +220,7 @@ impl PullOutBox {
             ],
             interfaces: vec![InterfaceSpec {
                 name: "grid".into(),
-                reinforcement: Some(ReinforcementPath { path, material: "grid".into() }),
+                reinforcement: Some(ReinforcementPath { path, line: None, head: None, material: "grid".into() }),
                 slave: None,
                 master: None,
                 master_normal: None,
@@ -231,6 +231,7 @@ impl PullOutBox {
                     name: "surcharge".into(),
                     load_factors: vec![1.0],
                     loads: vec![LoadSpec::EdgeTraction {
+                        name: None,
                         edge_set: "top".into(),
                         pressure: self.surcharge,
                         shear: 0.0,
@@ -251,6 +252,8 @@ impl PullOutBox {
                 },
             ],
             analysis: Default::default(),
+            mesh: None,
+            series: None,
         }
     }
 }

@@ -67,7 +67,7 @@ fn block_on_base(d: f64) -> ModelFile {
             Stage {
                 name: "surcharge".into(),
                 load_factors: vec![1.0],
-                loads: vec![LoadSpec::EdgeTraction { edge_set: "top".into(), pressure: Q, shear: 0.0 }],
+                loads: vec![LoadSpec::EdgeTraction { name: None, edge_set: "top".into(), pressure: Q, shear: 0.0 }],
                 prescribed: vec![on_block(0.0)],
             },
             Stage {
@@ -78,6 +78,8 @@ fn block_on_base(d: f64) -> ModelFile {
             },
         ],
         analysis: AnalysisSettings::default(),
+        mesh: None,
+        series: None,
     }
 }
 
@@ -139,7 +141,8 @@ fn a_frozen_normal_stress_keeps_the_strength_of_the_stage_start() {
     let mu = (30f64).to_radians().tan();
     for (freeze, q_effective) in [(true, Q), (false, 2.0 * Q)] {
         let mut file = block_on_base(0.05);
-        file.stages[1].loads = vec![LoadSpec::EdgeTraction { edge_set: "top".into(), pressure: Q, shear: 0.0 }];
+        file.stages[1].loads =
+            vec![LoadSpec::EdgeTraction { name: None, edge_set: "top".into(), pressure: Q, shear: 0.0 }];
         file.analysis.freeze_normal_stress = freeze;
         let model = common::model(&file, "coulomb-block.toml");
         let c = common::run(&model, Backend::available()[0]);

@@ -47,7 +47,7 @@ fn column(kind: SolidKind, self_weight: bool) -> ModelFile {
     let load = if self_weight {
         LoadSpec::Gravity { factor: 1.0 }
     } else {
-        LoadSpec::EdgeTraction { edge_set: "top".into(), pressure: Q, shear: 0.0 }
+        LoadSpec::EdgeTraction { name: None, edge_set: "top".into(), pressure: Q, shear: 0.0 }
     };
     ModelFile {
         title: "oedometer".into(),
@@ -62,6 +62,8 @@ fn column(kind: SolidKind, self_weight: bool) -> ModelFile {
         interfaces: Vec::new(),
         stages: vec![Stage { name: "load".into(), load_factors: vec![1.0], loads: vec![load], prescribed: Vec::new() }],
         analysis: Default::default(),
+        mesh: None,
+        series: None,
     }
 }
 

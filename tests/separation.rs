@@ -72,6 +72,8 @@ fn lifted_block() -> ModelFile {
             },
         ],
         analysis: AnalysisSettings::default(),
+        mesh: None,
+        series: None,
     }
 }
 

@@ -79,6 +79,8 @@ fn stacked_blocks(kind: SolidKind, nx: usize) -> ModelFile {
             }],
         }],
         analysis: Default::default(),
+        mesh: None,
+        series: None,
     }
 }
 

@@ -196,7 +196,8 @@ pub fn run(model: &Model, options: &RunOptions, sink: &mut dyn StepSink) -> Resu
             step += 1;
             let rows = InterfaceRows::new(model, &state.interfaces, &dofs);
             let taus: Vec<f64> = report.springs.iter().map(|r| r.tau).collect();
-            let results = StepResults::compute(model, &elements, &rows, &taus, &state, &held);
+            let sliding: Vec<bool> = report.springs.iter().map(|r| r.sliding).collect();
+            let results = StepResults::compute(model, &elements, &rows, &taus, &sliding, &state, &held);
             let balance = results::reinforcement_balance(model, &results, &state);
             let mut reassociations = match options.analysis.reassociation {
                 ReassociationRule::None => Vec::new(),

@@ -46,6 +46,8 @@ pub struct InterfacePointResult {
     pub slip: f64,
     /// The peak strength has been passed.
     pub post_peak: bool,
+    /// The point is at its shear strength in this step.
+    pub sliding: bool,
 }
 
 #[derive(Debug, Clone)]
@@ -55,6 +57,8 @@ pub struct ElementStress {
     pub x: [f64; 2],
     /// σxx, σyy, τxy, σzz; tension positive.
     pub stress: [f64; 4],
+    /// εxx, εyy, γxy; extension positive.
+    pub strain: [f64; 3],
 }
 
 #[derive(Debug, Clone)]
@@ -76,6 +80,7 @@ impl StepResults {
         elements: &ElementMatrices,
         rows: &InterfaceRows,
         taus: &[f64],
+        sliding: &[bool],
         state: &State,
         held: &[bool],
     ) -> Self {
@@ -132,15 +137,18 @@ impl StepResults {
                 for point in &face.points {
                     let lambda = state.lambda[k];
                     k += 1;
-                    let tau = match &interface.law {
+                    let (tau, sliding) = match &interface.law {
                         ShearLaw::Tie => {
                             let lt = state.lambda[k];
                             k += 1;
-                            lt / point.tributary.max(f64::MIN_POSITIVE)
+                            (lt / point.tributary.max(f64::MIN_POSITIVE), false)
                         }
                         _ => {
                             spring += 1;
-                            taus.get(spring - 1).copied().unwrap_or(0.0)
+                            (
+                                taus.get(spring - 1).copied().unwrap_or(0.0),
+                                sliding.get(spring - 1).copied().unwrap_or(false),
+                            )
                         }
                     };
                     let slip = if interface.law.is_tie() {
@@ -165,6 +173,7 @@ impl StepResults {
                         tau,
                         slip,
                         post_peak: point.shear.post_peak,
+                        sliding,
                     });
                 }
             }
@@ -178,7 +187,13 @@ impl StepResults {
             let material = solid::PlaneStrain { youngs_modulus: m.youngs_modulus, poissons_ratio: m.poissons_ratio };
             if let Ok(points) = solid::stresses(e.kind, &coords, &material, &ue) {
                 for (p, gs) in points.into_iter().enumerate() {
-                    stresses.push(ElementStress { element: e.id, point: p + 1, x: gs.x, stress: gs.stress });
+                    stresses.push(ElementStress {
+                        element: e.id,
+                        point: p + 1,
+                        x: gs.x,
+                        stress: gs.stress,
+                        strain: gs.strain,
+                    });
                 }
             }
         }

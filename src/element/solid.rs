@@ -232,7 +232,10 @@ pub fn body_force(kind: SolidKind, coords: &[[f64; 2]], b: [f64; 2]) -> Result<D
 #[derive(Debug, Clone, Copy)]
 pub struct GaussStress {
     pub x: [f64; 2],
+    /// σxx, σyy, τxy, σzz; tension positive.
     pub stress: [f64; 4],
+    /// εxx, εyy, γxy (engineering shear strain); εzz = 0 in plane strain.
+    pub strain: [f64; 3],
 }
 
 /// Stresses at the Gauss points for element displacements `u_e`.
@@ -251,7 +254,11 @@ pub fn stresses(
     for p in mapped_points(kind, coords)? {
         let eps = b_matrix(&p.dn_dx) * &u;
         let s = d * nalgebra::Vector3::new(eps[0], eps[1], eps[2]);
-        out.push(GaussStress { x: p.x, stress: [s[0], s[1], s[2], material.sigma_zz(s[0], s[1])] });
+        out.push(GaussStress {
+            x: p.x,
+            stress: [s[0], s[1], s[2], material.sigma_zz(s[0], s[1])],
+            strain: [eps[0], eps[1], eps[2]],
+        });
     }
     Ok(out)
 }

@@ -20,7 +20,11 @@ pub struct ModelFile {
     pub units: Units,
     /// Named materials.
     pub materials: Materials,
-    /// Nodes as `[id, x, y]`.
+    /// A Gmsh mesh to take the nodes, soil elements and named sets from, instead of listing them here.
+    #[serde(default)]
+    pub mesh: Option<MeshSource>,
+    /// Nodes as `[id, x, y]` (leave out when `mesh` is given).
+    #[serde(default)]
     pub nodes: Vec<NodeRow>,
     /// Soil elements (tri3, tri6, quad4, quad8), counter-clockwise node order, Gmsh numbering.
     #[serde(default)]
@@ -46,6 +50,38 @@ pub struct ModelFile {
     /// How the nonlinear analysis iterates (every field has a default).
     #[serde(default)]
     pub analysis: AnalysisSettings,
+    /// Run the model once per value of one load (a test series).
+    #[serde(default)]
+    pub series: Option<Series>,
+}
+
+/// A test series: the model is run once per value, with the `pressure` of the named edge-traction
+/// load set to that value (for example a pull-out test at three normal stresses). Each run writes to a
+/// folder of its own; the series adds `series.csv`, a plot of the peak reaction against the value
+/// and, for a pull-out, the apparent interface strength fitted to the peaks.
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Series {
+    /// The `name` of an `edge-traction` load.
+    pub load: String,
+    /// Its pressure in each run [stress].
+    pub values: Vec<f64>,
+}
+
+/// A Gmsh mesh and what its physical groups mean.
+///
+/// Physical surfaces become soil, each with the material `materials` gives it. Every physical curve
+/// becomes a node set of the same name (for supports and prescribed displacements) and, when it lies
+/// on the soil's boundary, an edge set too (for tractions); every physical point becomes a node set. A reinforcement interface can follow a
+/// physical curve by `line`. Node and element ids are Gmsh's tags, so messages name what Gmsh shows.
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct MeshSource {
+    /// A `.msh` file (format 4.1, ASCII or binary, or 2.2 ASCII) or a `.geo` file, which geoslip meshes
+    /// with Gmsh (`gmsh` on the PATH) for each run. Relative to the model file.
+    pub file: String,
+    /// Physical surface name → soil material name. Every surface element must be in one of these.
+    pub materials: BTreeMap<String, String>,
 }
 
 /// Settings of the equilibrium iteration.
@@ -274,7 +310,16 @@ pub struct InterfaceSpec {
 #[serde(deny_unknown_fields)]
 pub struct ReinforcementPath {
     /// Soil node ids along the reinforcement, from the head (on the front face) to the tail.
+    #[serde(default)]
     pub path: Vec<u64>,
+    /// Instead of `path`: the name of a physical curve of the Gmsh mesh. Its segments are chained
+    /// into a path whose head is the end on the soil's boundary.
+    #[serde(default)]
+    pub line: Option<String>,
+    /// With `line`: a point near the head end, needed only when both ends (or neither) lie on the
+    /// boundary.
+    #[serde(default)]
+    pub head: Option<[f64; 2]>,
     /// Name of a reinforcement material.
     pub material: String,
 }
@@ -347,6 +392,9 @@ pub enum LoadSpec {
     /// normal (positive pushes into the soil); `shear` acts along the edge, positive from its first node
     /// to its second.
     EdgeTraction {
+        /// A name, so that a `series` can vary this load.
+        #[serde(default)]
+        name: Option<String>,
         edge_set: String,
         #[serde(default)]
         pressure: f64,

@@ -2,6 +2,7 @@
 //! history that the analysis runs on.
 
 pub mod file;
+pub mod import;
 pub mod problems;
 mod validate;
 
@@ -29,6 +30,20 @@ pub struct Model {
     /// Things worth knowing that do not stop a run.
     pub notes: Vec<String>,
     pub analysis: file::AnalysisSettings,
+    /// The Gmsh mesh the nodes and elements came from, when the model names one.
+    pub mesh_source: Option<import::MeshRecord>,
+}
+
+/// One run of a model file.
+#[derive(Debug, Clone)]
+pub struct Case {
+    /// `<load>-<value>` for a run of a series; `None` for a model without one.
+    pub label: Option<String>,
+    /// The series' load name.
+    pub load: Option<String>,
+    /// The series value of this run.
+    pub value: Option<f64>,
+    pub model: Model,
 }
 
 /// A soil element side that carries a traction: element index and local side index.
@@ -67,12 +82,98 @@ impl Model {
         Model::from_file(path, &file).map_err(Error::Model)
     }
 
+    /// Read a model file and make one checked model per run: the model itself, or one per value of
+    /// its `series`.
+    ///
+    /// # Errors
+    /// As [`Model::load`]; a series naming no edge-traction load, or with no values, is a
+    /// [`Error::Model`].
+    pub fn load_cases(path: &Path) -> Result<Vec<Case>, Error> {
+        let text = std::fs::read_to_string(path).map_err(|source| Error::Read { path: path.to_path_buf(), source })?;
+        let file = parse(path, &text)?;
+        let Some(series) = file.series.clone() else {
+            return Ok(vec![Case { label: None, load: None, value: None, model: Model::from_file(path, &file)? }]);
+        };
+        let mut problems = problems::Problems::default();
+        let entity = format!("load \"{}\"", series.load);
+        let mut found = 0;
+        for stage in &file.stages {
+            for load in &stage.loads {
+                if let file::LoadSpec::EdgeTraction { name: Some(n), .. } = load {
+                    found += usize::from(*n == series.load);
+                }
+            }
+        }
+        if found != 1 {
+            problems.push(
+                "series.load",
+                &entity,
+                format!(
+                    "a series varies the pressure of exactly one edge-traction load with this `name`; found {found}"
+                ),
+            );
+        }
+        if series.values.is_empty() {
+            problems.push("series.values", &entity, "give at least one value");
+        }
+        for (k, v) in series.values.iter().enumerate() {
+            if !v.is_finite() {
+                problems.push(format!("series.values[{k}]"), &entity, format!("must be a finite number, found {v}"));
+            }
+        }
+        if !problems.is_empty() {
+            return Err(Error::Model(ModelError { file: path.to_path_buf(), problems: problems.into_vec() }));
+        }
+        let mut cases = Vec::new();
+        for &value in &series.values {
+            let mut f = file.clone();
+            f.series = None;
+            for stage in &mut f.stages {
+                for load in &mut stage.loads {
+                    if let file::LoadSpec::EdgeTraction { name: Some(n), pressure, .. } = load {
+                        if *n == series.load {
+                            *pressure = value;
+                        }
+                    }
+                }
+            }
+            let model = Model::from_file(path, &f)?;
+            cases.push(Case {
+                label: Some(format!("{}-{}", series.load, value)),
+                load: Some(series.load.clone()),
+                value: Some(value),
+                model,
+            });
+        }
+        Ok(cases)
+    }
+
     /// Check a parsed model file. `source` names it in messages.
     ///
     /// # Errors
     /// A [`ModelError`] that lists every problem found.
     pub fn from_file(source: &Path, file: &ModelFile) -> Result<Model, ModelError> {
-        validate::validate(source, file)
+        if file.mesh.is_none() {
+            return validate::validate(source, file);
+        }
+        let mut file = file.clone();
+        let mut problems = problems::Problems::default();
+        let record = import::import(source, &mut file, &mut problems);
+        if !problems.is_empty() {
+            return Err(ModelError { file: source.to_path_buf(), problems: problems.into_vec() });
+        }
+        let mut model = validate::validate(source, &file)?;
+        if let Some(r) = &record {
+            if r.flipped > 0 {
+                model.notes.push(format!(
+                    "{} element(s) of {} were numbered clockwise and were renumbered counter-clockwise",
+                    r.flipped,
+                    r.file.display()
+                ));
+            }
+        }
+        model.mesh_source = record;
+        Ok(model)
     }
 
     pub fn node_set(&self, name: &str) -> Option<&[NodeIndex]> {

@@ -250,6 +250,14 @@ pub(super) fn validate(source: &Path, file: &ModelFile) -> Result<Model, ModelEr
                         "master_normal applies only to slave/master pairs",
                     );
                 }
+                if r.line.is_some() && file.mesh.is_none() {
+                    p.push(
+                        format!("{field}.reinforcement.line"),
+                        &entity,
+                        "`line` names a physical curve of a Gmsh mesh, and the model has no `mesh`; give `path` instead",
+                    );
+                    continue;
+                }
                 let Some(law) = law else { continue };
                 let sides_now = SideMap::new(&mesh);
                 if let Some((interface, record)) = build::split_reinforcement(
@@ -390,7 +398,7 @@ pub(super) fn validate(source: &Path, file: &ModelFile) -> Result<Model, ModelEr
         for (j, l) in s.loads.iter().enumerate() {
             let lfield = format!("{field}.loads[{j}]");
             match l {
-                LoadSpec::EdgeTraction { edge_set, pressure, shear } => {
+                LoadSpec::EdgeTraction { edge_set, pressure, shear, .. } => {
                     if !(pressure.is_finite() && shear.is_finite()) {
                         p.push(&lfield, &entity, "pressure and shear must be finite numbers");
                     }
@@ -480,6 +488,7 @@ pub(super) fn validate(source: &Path, file: &ModelFile) -> Result<Model, ModelEr
             stages,
             notes,
             analysis: file.analysis.clone(),
+            mesh_source: None,
         })
     } else {
         Err(ModelError { file: source.to_path_buf(), problems: p.into_vec() })

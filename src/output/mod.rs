@@ -6,6 +6,8 @@
 
 pub mod plots;
 pub mod report;
+pub mod series;
+pub mod vtk;
 
 use crate::analysis::results::StepResults;
 use crate::analysis::system::SolverStats;
@@ -54,6 +56,17 @@ struct Target {
 
 /// Writes each step under `<out>/stage-<k>-<name>/step-<nnn>/` and keeps `summary.json` and
 /// `history.csv` current.
+/// The peak reaction of one prescribed target (a pull-out force, a footing load).
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct TargetPeak {
+    pub label: String,
+    pub direction: Direction,
+    /// |reaction| at its largest [force per metre width].
+    pub reaction: f64,
+    /// Mean displacement of the target there [length].
+    pub displacement: f64,
+}
+
 pub struct ResultWriter {
     out: PathBuf,
     units: UnitLabels,
@@ -61,6 +74,8 @@ pub struct ResultWriter {
     history: Vec<Vec<String>>,
     /// Largest |reaction| so far per target, and whether a drop from it was reported.
     peak_reaction: Vec<(f64, bool)>,
+    /// The target's displacement where its reaction peaked.
+    peak_displacement: Vec<f64>,
     slip_started: bool,
     all_sliding: bool,
     /// Profiles along each reinforcement, per step, for the plots.
@@ -69,6 +84,8 @@ pub struct ResultWriter {
     marked_steps: Vec<usize>,
     /// Each reinforcement interface and the ids of its nodes.
     reinforcements: Vec<(String, std::collections::HashSet<u64>)>,
+    /// ParaView grids and their `.pvd` collection.
+    vtk: vtk::VtkWriter,
     pub summary: RunSummary,
 }
 
@@ -135,9 +152,14 @@ impl ResultWriter {
             }
         }
         let units = model.unit_labels();
+        if let Some(generated) = model.mesh_source.as_ref().and_then(|m| m.generated.as_ref()) {
+            write_atomically(&out.join("mesh.msh"), &generated.msh)?;
+        }
         Ok(ResultWriter {
+            vtk: vtk::VtkWriter::new(model, out),
             out: out.to_path_buf(),
             peak_reaction: vec![(0.0, false); targets.len()],
+            peak_displacement: vec![0.0; targets.len()],
             targets,
             history: Vec::new(),
             slip_started: false,
@@ -180,6 +202,20 @@ impl ResultWriter {
             },
             units,
         })
+    }
+
+    /// Each prescribed target's largest |reaction| so far, and the displacement where it occurred.
+    pub fn peak_reactions(&self) -> Vec<TargetPeak> {
+        self.targets
+            .iter()
+            .enumerate()
+            .map(|(i, t)| TargetPeak {
+                label: t.label.clone(),
+                direction: t.direction,
+                reaction: self.peak_reaction[i].0,
+                displacement: self.peak_displacement[i],
+            })
+            .collect()
     }
 
     pub fn step_dir(&self, record: &StepRecord) -> PathBuf {
@@ -335,6 +371,7 @@ impl StepSink for ResultWriter {
     fn step_done(&mut self, results: &StepResults, record: &StepRecord, stats: &SolverStats) -> Result<(), Error> {
         let dir = self.step_dir(record);
         self.write_step_files(&dir, results)?;
+        self.vtk.write_step(self.summary.steps.len() + 1, results)?;
         let when = format!("stage \"{}\" step {} (load factor {:.4})", record.stage, record.step, record.load_factor);
         if !self.slip_started && record.sliding_points > 0 {
             self.slip_started = true;
@@ -365,6 +402,7 @@ impl StepSink for ResultWriter {
                 self.peak_reaction[ti].1 = true; // once per peak
             } else if reaction.abs() > peak {
                 self.peak_reaction[ti] = (reaction.abs(), false);
+                self.peak_displacement[ti] = mean_u;
             }
             self.history.push(vec![
                 record.stage.clone(),
@@ -438,6 +476,7 @@ impl ResultWriter {
                 x_label: format!("|displacement| [{}]", u.length),
                 y_label: format!("|reaction| [{}]", u.force_per_width),
                 series: vec![(String::new(), points)],
+                markers_only: Vec::new(),
             });
         }
         if !panels.is_empty() {
@@ -458,31 +497,35 @@ impl ResultWriter {
                     .map(|&s| (self.profiles[s].label.clone(), pick(&self.profiles[s].reinforcements[k])))
                     .collect()
             };
-            let x = format!("x [{}]", u.length);
+            let x = format!("x at the reference position [{}]", u.length);
             let panels = vec![
                 plots::Panel {
                     title: format!("{name}: tension T(x)"),
                     x_label: x.clone(),
                     y_label: format!("T [{}]", u.force_per_width),
                     series: series(&|p| p.tension.clone()),
+                    markers_only: Vec::new(),
                 },
                 plots::Panel {
                     title: format!("{name}: displacement u(x)"),
                     x_label: x.clone(),
                     y_label: format!("ux [{}]", u.length),
                     series: series(&|p| p.displacement.clone()),
+                    markers_only: Vec::new(),
                 },
                 plots::Panel {
                     title: format!("{name}: shear stress τ(x), upper face"),
                     x_label: x.clone(),
                     y_label: format!("τ [{}]", u.stress),
                     series: series(&|p| p.shear.clone()),
+                    markers_only: Vec::new(),
                 },
                 plots::Panel {
                     title: format!("{name}: normal stress σn(x), upper face"),
                     x_label: x,
                     y_label: format!("σn [{}]", u.stress),
                     series: series(&|p| p.normal.clone()),
+                    markers_only: Vec::new(),
                 },
             ];
             let stem = format!("profiles-{}", name.replace(|c: char| !c.is_ascii_alphanumeric() && c != '-', "-"));

@@ -18,6 +18,8 @@ pub struct Panel {
     pub x_label: String,
     pub y_label: String,
     pub series: Vec<Series>,
+    /// Labels of series drawn as markers only (measured points), the others as lines.
+    pub markers_only: Vec<String>,
 }
 
 static FONT: Once = Once::new();
@@ -60,7 +62,12 @@ fn bounds(series: &[Series]) -> ((f64, f64), (f64, f64)) {
 }
 
 fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, panel: &Panel) -> Result<(), String> {
-    let ((x0, x1), (y0, y1)) = bounds(&panel.series);
+    let ((x0, x1), (y0, mut y1)) = bounds(&panel.series);
+    let legend = panel.series.len() > 1 || panel.series.iter().any(|(l, _)| !l.is_empty());
+    if legend {
+        // headroom above the data, so that the legend in the upper right never covers it
+        y1 += 0.12 * (1 + panel.series.len()) as f64 * (y1 - y0);
+    }
     let mut chart = ChartBuilder::on(area)
         .caption(&panel.title, ("sans-serif", 20))
         .margin(12)
@@ -78,6 +85,14 @@ fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, panel: &Panel) 
         .map_err(|e| e.to_string())?;
     for (k, (label, points)) in panel.series.iter().enumerate() {
         let colour = COLOURS[k % COLOURS.len()];
+        if panel.markers_only.contains(label) {
+            chart
+                .draw_series(points.iter().map(|&p| Circle::new(p, 5, colour.filled())))
+                .map_err(|e| e.to_string())?
+                .label(label.as_str())
+                .legend(move |(x, y)| Circle::new((x + 9, y), 5, colour.filled()));
+            continue;
+        }
         chart
             .draw_series(LineSeries::new(points.iter().copied(), colour.stroke_width(2)))
             .map_err(|e| e.to_string())?
@@ -85,9 +100,10 @@ fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, panel: &Panel) 
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], colour.stroke_width(2)));
         chart.draw_series(points.iter().map(|&p| Circle::new(p, 2, colour.filled()))).map_err(|e| e.to_string())?;
     }
-    if panel.series.len() > 1 || panel.series.iter().any(|(l, _)| !l.is_empty()) {
+    if legend {
         chart
             .configure_series_labels()
+            .position(SeriesLabelPosition::UpperRight)
             .background_style(WHITE.mix(0.85))
             .border_style(BLACK)
             .label_font(("sans-serif", 13))

@@ -40,6 +40,28 @@ pub fn markdown(
         u.interface_points,
         model.stages.len()
     );
+    if let Some(m) = &model.mesh_source {
+        let names = |dim: usize| -> String {
+            let v: Vec<String> = m.groups.iter().filter(|g| g.0 == dim).map(|g| format!("`{}`", g.1)).collect();
+            if v.is_empty() {
+                "none".into()
+            } else {
+                v.join(", ")
+            }
+        };
+        let how = match &m.generated {
+            Some(g) => format!("meshed for this run by Gmsh {} (saved as `mesh.msh`)", g.gmsh_version),
+            None => format!("Gmsh format {}", m.format),
+        };
+        let _ = writeln!(
+            r,
+            "\nMesh: `{}`, {how}; physical surfaces {}, curves {}, points {}.",
+            m.file.display(),
+            names(2),
+            names(1),
+            names(0)
+        );
+    }
     let _ = writeln!(r, "\n| interface | law | faces | points |");
     let _ = writeln!(r, "|---|---|---:|---:|");
     for i in &model.interfaces {

@@ -38,7 +38,7 @@ pub fn bar_in_rigid_soil(
         supports: vec![support("soil", &[Direction::X, Direction::Y])],
         interfaces: vec![InterfaceSpec {
             name: "grid".into(),
-            reinforcement: Some(ReinforcementPath { path, material: "grid".into() }),
+            reinforcement: Some(ReinforcementPath { path, line: None, head: None, material: "grid".into() }),
             slave: None,
             master: None,
             master_normal: None,
@@ -57,6 +57,8 @@ pub fn bar_in_rigid_soil(
             }],
         }],
         analysis: AnalysisSettings { reassociation, ..AnalysisSettings::default() },
+        mesh: None,
+        series: None,
     }
 }
 
