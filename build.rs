@@ -13,7 +13,7 @@ fn main() {
     let mut backends = Vec::new();
     if found("MUMPS") {
         println!("cargo:rustc-cfg=geoslip_mumps");
-        backends.push("mumps");
+        backends.push(if found("MUMPS_MPI") { "mumps (MPI build)" } else { "mumps" });
     }
     if found("UMFPACK") {
         println!("cargo:rustc-cfg=geoslip_umfpack");

@@ -156,6 +156,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         surcharge: 20.0,
         pull: 0.06,
         steps: 60,
+        layers: 1,
     };
     let mut model = clay.model();
     model.title = "pull-out test in clay (Yi 1996, Figs. 7-10)".into();

@@ -4,14 +4,15 @@
 # On Debian 12 as root it first installs what the native backends need (MUMPS sequential, UMFPACK,
 # libclang for bindgen, OpenBLAS as the BLAS alternative), and what the tests run beside geoslip:
 # Gmsh (meshes the examples' .geo files) and VTK's Python module (reads the ParaView output back).
-# It then tests
-#   1. the full build, which must have MUMPS and UMFPACK when the packages are installed, and
-#   2. a build with no native libraries (GEOSLIP_NO_NATIVE=1), which runs on faer and dense.
+# and MUMPS's MPI build with OpenMPI. It then tests
+#   1. the full build, which must have MUMPS and UMFPACK when the packages are installed,
+#   2. the MPI build (--features mpi, in target/mpi): mpirun -np 2 against the sequential run, and
+#   3. a build with no native libraries (GEOSLIP_NO_NATIVE=1), which runs on faer and dense.
 # This is the command the README gives and the one CI runs (.ci/run).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-packages=(libmumps-seq-dev libsuitesparse-dev libclang-dev libopenblas0-pthread)
+packages=(libmumps-seq-dev libsuitesparse-dev libclang-dev libopenblas0-pthread libmumps-dev libopenmpi-dev openmpi-bin)
 tools=(gmsh python3-vtk9)
 native_expected=0
 if [ -r /etc/debian_version ] && command -v apt-get >/dev/null 2>&1; then
@@ -45,6 +46,16 @@ if [ "$native_expected" = 1 ]; then
 fi
 echo "== full build: tests"
 cargo test --workspace --locked
+
+if command -v mpirun >/dev/null 2>&1 && [ -e /usr/lib/x86_64-linux-gnu/libdmumps.so ]; then
+  echo "== MPI build: mpirun -np 2 against the sequential run (target/debug/geoslip)"
+  GEOSLIP_SEQUENTIAL="$PWD/target/debug/geoslip" \
+    cargo test --locked --features mpi --target-dir target/mpi --test mpi_agreement
+elif [ "$native_expected" = 1 ]; then
+  echo "error: the MPI packages are installed but mpirun or libdmumps.so is missing"; exit 1
+else
+  echo "== MPI build: skipped (needs libmumps-dev, libopenmpi-dev and openmpi-bin)"
+fi
 
 echo "== build without native libraries: tests"
 GEOSLIP_NO_NATIVE=1 cargo test --workspace --locked

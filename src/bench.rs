@@ -47,24 +47,20 @@ pub struct Measurement {
 
 /// Peak resident memory of this process so far (VmHWM), MB.
 pub fn peak_memory_mb() -> f64 {
-    std::fs::read_to_string("/proc/self/status")
-        .ok()
-        .and_then(|s| {
-            s.lines()
-                .find(|l| l.starts_with("VmHWM:"))
-                .and_then(|l| l.split_whitespace().nth(1).and_then(|kb| kb.parse::<f64>().ok()))
-        })
-        .map(|kb| kb / 1024.0)
-        .unwrap_or(f64::NAN)
+    linsol::process_status_mb("VmHWM:")
 }
 
 /// Build the model's first system and time one backend on it (`None`: the model alone).
-pub fn measure(dofs: usize, backend: Option<Backend>) -> Measurement {
+pub fn measure(dofs: usize, backend: Option<Backend>, ordering: linsol::Ordering) -> Measurement {
     let model = pullout_model(dofs);
     let (n, system) = analysis::first_system(&model);
     let matrix = PatternCache::default().assemble(n, &system.triplets).0;
     let mut m = Measurement {
-        backend: backend.map(|b| b.name().to_string()).unwrap_or_else(|| "model only".into()),
+        backend: match backend.map(Backend::resolve) {
+            Some(Backend::Mumps) => format!("mumps ({})", ordering.name()),
+            Some(b) => b.name().to_string(),
+            None => "model only".into(),
+        },
         unknowns: n,
         nonzeros: matrix.pattern.nnz(),
         analyse_seconds: 0.0,
@@ -76,7 +72,7 @@ pub fn measure(dofs: usize, backend: Option<Backend>) -> Measurement {
         error: None,
     };
     if let Some(backend) = backend {
-        if let Err(e) = time_backend(backend, &matrix, &system.rhs, &mut m) {
+        if let Err(e) = time_backend(backend, ordering, &matrix, &system.rhs, &mut m) {
             m.error = Some(e);
         }
     }
@@ -84,8 +80,15 @@ pub fn measure(dofs: usize, backend: Option<Backend>) -> Measurement {
     m
 }
 
-fn time_backend(backend: Backend, matrix: &CscMatrix, rhs: &[f64], m: &mut Measurement) -> Result<(), String> {
-    let mut solver = linsol::make(backend, true).map_err(|e| e.to_string())?;
+fn time_backend(
+    backend: Backend,
+    ordering: linsol::Ordering,
+    matrix: &CscMatrix,
+    rhs: &[f64],
+    m: &mut Measurement,
+) -> Result<(), String> {
+    let options = linsol::SolverOptions { ordering, ..linsol::SolverOptions::default() };
+    let mut solver = linsol::make(backend, true, &options).map_err(|e| e.to_string())?;
     let t = Instant::now();
     solver.analyse(matrix).map_err(|e| format!("{e:?}"))?;
     m.analyse_seconds = t.elapsed().as_secs_f64();
@@ -126,7 +129,8 @@ pub fn mumps_overhead(dofs: usize, repeats: usize) -> Result<(f64, f64, usize), 
     for _ in 0..repeats {
         // The path: geoslip's MUMPS wrapper from the assembled matrix to a checked solution.
         let t = Instant::now();
-        let mut solver = linsol::make(Backend::Mumps, true).map_err(|e| e.to_string())?;
+        let mut solver =
+            linsol::make(Backend::Mumps, true, &linsol::SolverOptions::default()).map_err(|e| e.to_string())?;
         solver.analyse(&matrix).map_err(|e| format!("{e:?}"))?;
         solver.factorize(&matrix).map_err(|e| format!("{e:?}"))?;
         let x = solver.solve(&system.rhs).map_err(|e| format!("{e:?}"))?;
@@ -160,4 +164,151 @@ fn bare_mumps(_: usize, _: &mut [i32], _: &mut [i32], _: &mut [f64], _: &[f64]) 
 fn median(v: &mut [f64]) -> f64 {
     v.sort_by(|a, b| a.total_cmp(b));
     v[v.len() / 2]
+}
+
+/// The nonlinear benchmark model: a pull-out box of quad4 elements with about `dofs` unknowns and
+/// as many reinforcement layers (`grid-1`, … from the bottom up) as make the reinforcement
+/// stations about 1 % of the unknowns. The interfaces are Coulomb (c = 0, φ = 30°, Ks = 20 MN/m³)
+/// under 50 kPa, so the grids slip and slide over several soil segments in the 20 pull increments
+/// (30 mm in all), and re-association happens.
+pub fn multilayer_model(dofs: usize) -> Model {
+    let r = 1.0 / 0.6;
+    let rows = (dofs as f64 / (2.0 * r)).sqrt();
+    let ny_half = ((rows / 2.0).round() as usize).max(2);
+    let nx = ((r * 2.0 * ny_half as f64).round() as usize).max(4);
+    let stations_per_layer = (0.8 * nx as f64).max(1.0);
+    let layers = ((0.01 * dofs as f64 / stations_per_layer).round() as usize).clamp(1, ny_half);
+    let file = PullOutBox {
+        nx,
+        ny_half,
+        layers,
+        steps: 20,
+        pull: 0.03,
+        law: crate::model::file::ShearLawSpec::Coulomb {
+            shear_stiffness: 20_000.0,
+            cohesion: 0.0,
+            friction_angle: 30.0,
+        },
+        ..PullOutBox::default()
+    }
+    .model();
+    Model::from_file(Path::new("generated-multilayer-pullout"), &file)
+        .expect("the generated multi-layer pull-out box is a valid model")
+}
+
+/// One nonlinear run of the benchmark model: counts, phase times and memory.
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+pub struct NonlinearMeasurement {
+    pub backend: String,
+    pub ordering: String,
+    /// Soil and reinforcement displacement unknowns (free and held) and multipliers.
+    pub dofs: usize,
+    pub layers: usize,
+    /// Reinforcement nodes (slave points of one face).
+    pub stations: usize,
+    pub increments: usize,
+    pub iterations: usize,
+    pub analyses: usize,
+    pub factorizations: usize,
+    pub solves: usize,
+    pub reassociations: usize,
+    /// Largest slip of any point at the end [m] and the element length [m].
+    pub max_slip: f64,
+    pub element_length: f64,
+    pub total_seconds: f64,
+    /// Element matrices and the first assembly's bookkeeping.
+    pub setup_seconds: f64,
+    pub assembly_seconds: f64,
+    pub interface_seconds: f64,
+    pub residual_seconds: f64,
+    pub check_seconds: f64,
+    pub analyse_seconds: f64,
+    pub factorize_seconds: f64,
+    pub solve_seconds: f64,
+    pub output_seconds: f64,
+    /// Resident memory with the model built, before the run, MB.
+    pub model_memory_mb: f64,
+    pub peak_memory_mb: f64,
+    /// MUMPS's INFOG(22) of the last factorisation, MB.
+    pub factor_memory_mb: Option<f64>,
+    pub error: Option<String>,
+}
+
+pub use linsol::resident_memory_mb;
+
+/// Counts steps and re-associations, keeps nothing else.
+#[derive(Default)]
+struct Counter {
+    increments: usize,
+    reassociations: usize,
+    max_slip: f64,
+}
+
+impl analysis::StepSink for Counter {
+    fn step_done(
+        &mut self,
+        step: &analysis::results::StepResults,
+        record: &analysis::StepRecord,
+        _: &analysis::system::SolverStats,
+    ) -> Result<(), crate::Error> {
+        self.increments += 1;
+        self.reassociations += record.reassociations.len();
+        self.max_slip = step.interface_points.iter().map(|p| p.slip.abs()).fold(self.max_slip, f64::max);
+        Ok(())
+    }
+}
+
+/// Run the nonlinear benchmark model with about `dofs` unknowns on one backend.
+pub fn measure_nonlinear(dofs: usize, backend: Backend, ordering: linsol::Ordering) -> NonlinearMeasurement {
+    let model = multilayer_model(dofs);
+    let mut m = NonlinearMeasurement {
+        backend: backend.resolve().name().into(),
+        ordering: ordering.name().into(),
+        dofs: 2 * model.mesh.nodes.len() + crate::dofs::multipliers(&model.interfaces).len(),
+        layers: model.interfaces.iter().filter(|i| i.slit_of.is_none()).count(),
+        stations: model.interfaces.iter().filter(|i| i.slit_of.is_none()).map(|i| i.faces[0].points.len()).sum(),
+        element_length: model.mesh.characteristic_length(),
+        model_memory_mb: resident_memory_mb(),
+        ..NonlinearMeasurement::default()
+    };
+    let options = analysis::RunOptions {
+        solver: linsol::SolverOptions { ordering, ..linsol::SolverOptions::default() },
+        ..analysis::RunOptions::for_model(&model, backend)
+    };
+    let mut counter = Counter::default();
+    let t = Instant::now();
+    let result = analysis::run(&model, &options, &mut counter);
+    m.total_seconds = t.elapsed().as_secs_f64();
+    m.peak_memory_mb = peak_memory_mb();
+    m.increments = counter.increments;
+    m.reassociations = counter.reassociations;
+    m.max_slip = counter.max_slip;
+    match result {
+        Ok(s) => {
+            m.iterations = s.iterations;
+            m.analyses = s.analyses;
+            m.factorizations = s.factorizations;
+            m.solves = s.solves;
+            m.assembly_seconds = s.assembly_seconds;
+            m.interface_seconds = s.interface_seconds;
+            m.residual_seconds = s.residual_seconds;
+            m.check_seconds = s.check_seconds;
+            m.analyse_seconds = s.analyse_seconds;
+            m.factorize_seconds = s.factorize_seconds;
+            m.solve_seconds = s.solve_seconds;
+            m.output_seconds = s.output_seconds;
+            m.factor_memory_mb = s.factor_memory_mb;
+            m.setup_seconds = m.total_seconds
+                - (s.assembly_seconds
+                    + s.interface_seconds
+                    + s.residual_seconds
+                    + s.check_seconds
+                    + s.analyse_seconds
+                    + s.factorize_seconds
+                    + s.solve_seconds
+                    + s.output_seconds);
+        }
+        Err(e) => m.error = Some(e.to_string()),
+    }
+    m
 }

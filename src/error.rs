@@ -58,9 +58,24 @@ pub enum SolveError {
     /// The requested backend is not compiled into this build.
     #[error("solver backend '{backend}' is not available in this build: {hint}")]
     Unavailable { backend: String, hint: String },
+    /// The model or its factorisation would need more memory than the run may use: stopped before
+    /// the work started.
+    #[error(transparent)]
+    OutOfMemory(Box<MemoryShortfall>),
     /// A backend failed for a reason of its own.
     #[error("{backend} failed: {message}")]
     Backend { backend: &'static str, message: String },
+}
+
+/// What would not fit in memory, and what to do.
+#[derive(Debug, Clone, thiserror::Error)]
+#[error("{backend}: {what} needs about {needed_mb:.1} MB and this run has {available_mb:.1} MB for it; {hint}")]
+pub struct MemoryShortfall {
+    pub backend: &'static str,
+    pub what: &'static str,
+    pub needed_mb: f64,
+    pub available_mb: f64,
+    pub hint: String,
 }
 
 /// A run that could not finish.

@@ -16,6 +16,7 @@
 pub mod analysis;
 pub mod assembly;
 pub mod bench;
+pub mod cli;
 pub mod dofs;
 pub mod element;
 pub mod error;

@@ -127,8 +127,9 @@ impl Block {
     }
 }
 
-/// A pull-out box: a soil block `length` × `height` with a reinforcement at mid-height from the
-/// front face (x = 0) over `embedded` metres, a surcharge on top, a fixed base, and rigid front and
+/// A pull-out box: a soil block `length` × `height` with a reinforcement at mid-height (or `layers`
+/// reinforcements at equal spacing, `grid-1` from the bottom up) from the front face (x = 0) over
+/// `embedded` metres, a surcharge on top, a fixed base, and rigid front and
 /// back walls (ux = 0). Stage 1 applies the surcharge; stage 2 pulls the head by `pull` (towards −x)
 /// in `steps` increments.
 #[derive(Debug, Clone)]
@@ -148,6 +149,8 @@ pub struct PullOutBox {
     pub surcharge: f64,
     pub pull: f64,
     pub steps: usize,
+    /// Reinforcement layers: 1 is the grid at mid-height, named `grid`.
+    pub layers: usize,
 }
 
 impl Default for PullOutBox {
@@ -167,6 +170,7 @@ impl Default for PullOutBox {
             surcharge: 50.0,
             pull: 0.01,
             steps: 5,
+            layers: 1,
         }
     }
 }
@@ -178,7 +182,14 @@ impl PullOutBox {
             Block::new(self.kind, (0.0, 0.0), (self.length, self.height), (self.nx, 2 * self.ny_half), "soil", 1, 1);
         let cells_embedded =
             ((self.embedded / self.length) * self.nx as f64).round().clamp(1.0, self.nx as f64) as usize;
-        let path: Vec<u64> = (0..=cells_embedded).map(|i| block.node(i, self.ny_half)).collect();
+        let layers = self.layers.max(1);
+        let rows = 2 * self.ny_half;
+        let mut levels: Vec<usize> =
+            (1..=layers).map(|k| ((k * rows) as f64 / (layers + 1) as f64).round() as usize).collect();
+        levels.retain(|&j| j > 0 && j < rows);
+        levels.dedup();
+        let names: Vec<String> =
+            if layers == 1 { vec!["grid".into()] } else { (1..=levels.len()).map(|k| format!("grid-{k}")).collect() };
         let mut node_sets = BTreeMap::new();
         node_sets.insert("base".into(), block.row_nodes(0));
         node_sets.insert("front".into(), block.column_nodes(0));
@@ -218,14 +229,23 @@ impl PullOutBox {
                 support("front", &[Direction::X]),
                 support("back", &[Direction::X]),
             ],
-            interfaces: vec![InterfaceSpec {
-                name: "grid".into(),
-                reinforcement: Some(ReinforcementPath { path, line: None, head: None, material: "grid".into() }),
-                slave: None,
-                master: None,
-                master_normal: None,
-                law: self.law.clone(),
-            }],
+            interfaces: levels
+                .iter()
+                .zip(&names)
+                .map(|(&j, name)| InterfaceSpec {
+                    name: name.clone(),
+                    reinforcement: Some(ReinforcementPath {
+                        path: (0..=cells_embedded).map(|i| block.node(i, j)).collect(),
+                        line: None,
+                        head: None,
+                        material: "grid".into(),
+                    }),
+                    slave: None,
+                    master: None,
+                    master_normal: None,
+                    law: self.law.clone(),
+                })
+                .collect(),
             stages: vec![
                 Stage {
                     name: "surcharge".into(),
@@ -242,13 +262,16 @@ impl PullOutBox {
                     name: "pull-out".into(),
                     load_factors: factors,
                     loads: Vec::new(),
-                    prescribed: vec![PrescribedDisplacement {
-                        node: None,
-                        nodes: None,
-                        set: Some("grid.head".into()),
-                        ux: Some(-self.pull),
-                        uy: None,
-                    }],
+                    prescribed: names
+                        .iter()
+                        .map(|name| PrescribedDisplacement {
+                            node: None,
+                            nodes: None,
+                            set: Some(format!("{name}.head")),
+                            ux: Some(-self.pull),
+                            uy: None,
+                        })
+                        .collect(),
                 },
             ],
             analysis: Default::default(),

@@ -8,6 +8,11 @@
 //! - UMFPACK (`libsuitesparse-dev`): `umfpack.h` in `/usr/include/suitesparse`; link `umfpack`.
 //! - bindgen needs libclang (`libclang-dev`).
 //!
+//! - MUMPS, MPI build (`libmumps-dev`, OpenMPI), with the `mpi` feature instead of the sequential
+//!   one: the same header and struct (`comm_fortran` is a Fortran integer in both); link `dmumps`,
+//!   `mumps_common`, `pord`. The two libraries export the same symbols, so a binary has one or the
+//!   other.
+//!
 //! `GEOSLIP_NO_NATIVE=1` builds without them even where they are installed (to test that build).
 //! Tells the crates that depend on this one, through `DEP_GEOSLIP_NATIVE_MUMPS` and
 //! `DEP_GEOSLIP_NATIVE_UMFPACK`, what was found.
@@ -53,12 +58,33 @@ fn main() {
             &["UMFPACK_.*"],
             &out.join("umfpack.rs"),
         );
+    let mpi = env::var_os("CARGO_FEATURE_MPI").is_some();
+    if mpi && !mumps {
+        panic!(
+            "the `mpi` feature needs MUMPS's header and bindgen: install Debian's libmumps-dev, libopenmpi-dev and \
+             libclang-dev (and do not set GEOSLIP_NO_NATIVE)"
+        );
+    }
+    if mpi {
+        let found = ["/usr/lib/x86_64-linux-gnu", "/usr/lib/aarch64-linux-gnu", "/usr/lib", "/usr/local/lib"]
+            .iter()
+            .any(|d| Path::new(d).join("libdmumps.so").exists());
+        if !found {
+            panic!("the `mpi` feature links MUMPS's MPI build (libdmumps.so): install Debian's libmumps-dev");
+        }
+    }
     if mumps {
         println!("cargo:rustc-cfg=has_mumps");
-        for lib in ["dmumps_seq", "mumps_common_seq", "mpiseq_seq", "pord_seq"] {
+        let libs: &[&str] = if mpi {
+            &["dmumps", "mumps_common", "pord"]
+        } else {
+            &["dmumps_seq", "mumps_common_seq", "mpiseq_seq", "pord_seq"]
+        };
+        for lib in libs {
             println!("cargo:rustc-link-lib={lib}");
         }
         println!("cargo:mumps=1");
+        println!("cargo:mumps_mpi={}", u8::from(mpi));
     } else {
         println!("cargo:mumps=0");
     }

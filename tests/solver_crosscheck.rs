@@ -129,9 +129,15 @@ fn backends_under_test() -> Vec<(String, Box<dyn LinearSolver>)> {
         if backend == Backend::Dense {
             continue;
         }
-        list.push((format!("{} (symmetric)", backend.name()), linsol::make(backend, true).unwrap()));
+        list.push((
+            format!("{} (symmetric)", backend.name()),
+            linsol::make(backend, true, &Default::default()).unwrap(),
+        ));
         if backend == Backend::Mumps {
-            list.push(("mumps (unsymmetric, SYM=0)".into(), linsol::make(backend, false).unwrap()));
+            list.push((
+                "mumps (unsymmetric, SYM=0)".into(),
+                linsol::make(backend, false, &Default::default()).unwrap(),
+            ));
         }
     }
     list
@@ -142,7 +148,7 @@ proptest! {
 
     #[test]
     fn every_backend_agrees_with_the_dense_reference_or_reports_singular(s in systems()) {
-        let reference = solve(&mut *linsol::make(Backend::Dense, true).unwrap(), &s);
+        let reference = solve(&mut *linsol::make(Backend::Dense, true, &Default::default()).unwrap(), &s);
         if s.rank_deficient {
             prop_assert!(reference.is_err(), "the dense reference missed a repeated row");
         }
@@ -175,7 +181,7 @@ fn a_repeated_row_is_singular_for_the_reference_and_for_mumps_and_a_regular_syst
     let regular = saddle_point(12, springs.clone(), vec![], ties.clone(), vec![11], false, loads.clone());
     let deficient = saddle_point(12, springs, vec![], ties, vec![11], true, loads);
     assert!(deficient.rank_deficient && !regular.rank_deficient);
-    let mut dense = linsol::make(Backend::Dense, true).unwrap();
+    let mut dense = linsol::make(Backend::Dense, true, &Default::default()).unwrap();
     let x_ref = solve(&mut *dense, &regular).expect("regular system");
     assert!(matches!(solve(&mut *dense, &deficient), Err(Failure::Singular { .. })));
     for (name, mut solver) in backends_under_test() {

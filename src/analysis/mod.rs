@@ -29,6 +29,7 @@ use crate::model::file::{AnalysisSettings, Direction, ReassociationRule, Scheme}
 use crate::model::{Load, Model};
 use results::StepResults;
 use std::collections::HashMap;
+use std::time::Instant;
 use system::{ElementMatrices, InterfaceRows, LinearSystem, SolverStats};
 
 /// What a run may be asked to do: a backend and the model's `[analysis]` settings
@@ -37,19 +38,35 @@ use system::{ElementMatrices, InterfaceRows, LinearSystem, SolverStats};
 pub struct RunOptions {
     pub backend: Backend,
     pub analysis: AnalysisSettings,
+    /// Ordering, out-of-core and memory limit of the backend.
+    pub solver: crate::linsol::SolverOptions,
 }
 
 impl Default for RunOptions {
     fn default() -> Self {
-        RunOptions { backend: Backend::Auto, analysis: AnalysisSettings::default() }
+        RunOptions {
+            backend: Backend::Auto,
+            analysis: AnalysisSettings::default(),
+            solver: crate::linsol::SolverOptions::default(),
+        }
     }
 }
 
 impl RunOptions {
-    /// The model's `[analysis]` settings with a backend.
+    /// The model's `[analysis]` settings with a backend and its default settings.
     pub fn for_model(model: &Model, backend: Backend) -> RunOptions {
-        RunOptions { backend, analysis: model.analysis.clone() }
+        RunOptions { backend, analysis: model.analysis.clone(), solver: crate::linsol::SolverOptions::default() }
     }
+}
+
+/// Memory the model, its element matrices and its assembled system take, MB, before the solver's
+/// own: about 70 bytes per entry of the soil element matrices (the matrices, an iteration's
+/// triplets, the triplet-to-CSC refill map and the CSC matrix with the copy kept to detect
+/// unchanged values), calibrated against `geoslip bench`'s "model and assembly only" rows
+/// (docs/performance.md).
+pub fn model_memory_estimate_mb(model: &Model) -> f64 {
+    let entries: f64 = model.mesh.solids.iter().map(|s| (2 * s.nodes.len()).pow(2) as f64).sum();
+    (70.0 * entries + 200.0 * model.mesh.nodes.len() as f64) / (1024.0 * 1024.0)
 }
 
 /// Receives each converged step as soon as it exists, so that a later failure never loses it.
@@ -131,11 +148,30 @@ pub struct State {
 /// A solve or convergence failure names the stage and step, and the interface points that kept
 /// changing state; steps completed before it have already been passed to `sink`.
 pub fn run(model: &Model, options: &RunOptions, sink: &mut dyn StepSink) -> Result<SolverStats, Error> {
+    // Stop before allocating anything large when the model alone would not fit.
+    if let Some(limit) = options.solver.memory_limit_mb.or_else(crate::linsol::available_memory_mb) {
+        let needed = model_memory_estimate_mb(model);
+        if needed > limit {
+            return Err(Error::Solve {
+                file: model.source.clone(),
+                stage: model.stages[0].name.clone(),
+                step: 1,
+                source: SolveError::OutOfMemory(Box::new(crate::error::MemoryShortfall {
+                    backend: "geoslip",
+                    what: "the model, its element matrices and the assembled system (estimate)",
+                    needed_mb: needed,
+                    available_mb: limit,
+                    hint: "rank 0 of an MPI run holds these too: use a machine with more memory, or coarsen the mesh"
+                        .into(),
+                })),
+            });
+        }
+    }
     let elements = ElementMatrices::compute(model);
     let mut system =
-        LinearSystem::new(options.backend, options.analysis.scheme != Scheme::Newton).map_err(|source| {
-            Error::Solve { file: model.source.clone(), stage: model.stages[0].name.clone(), step: 1, source }
-        })?;
+        LinearSystem::new(options.backend, options.analysis.scheme != Scheme::Newton, &options.solver).map_err(
+            |source| Error::Solve { file: model.source.clone(), stage: model.stages[0].name.clone(), step: 1, source },
+        )?;
     let dof_count = 2 * model.mesh.nodes.len();
     let mut state = State {
         u: vec![0.0; dof_count],
@@ -194,11 +230,14 @@ pub fn run(model: &Model, options: &RunOptions, sink: &mut dyn StepSink) -> Resu
             // Commit the increment: shear states, then the re-association for the next one.
             commit(&mut state, &report.springs);
             step += 1;
+            let output_started = Instant::now();
             let rows = InterfaceRows::new(model, &state.interfaces, &dofs);
             let taus: Vec<f64> = report.springs.iter().map(|r| r.tau).collect();
             let sliding: Vec<bool> = report.springs.iter().map(|r| r.sliding).collect();
             let results = StepResults::compute(model, &elements, &rows, &taus, &sliding, &state, &held);
             let balance = results::reinforcement_balance(model, &results, &state);
+            system.stats.output_seconds += output_started.elapsed().as_secs_f64();
+            let search_started = Instant::now();
             let mut reassociations = match options.analysis.reassociation {
                 ReassociationRule::None => Vec::new(),
                 rule => reassociate::reassociate(
@@ -217,6 +256,7 @@ pub fn run(model: &Model, options: &RunOptions, sink: &mut dyn StepSink) -> Resu
                 // faces tied to segments ending at one soil node, at a slit tip): find them again
                 redundant = mark_redundant_rows(model, &mut state.interfaces, &dofs);
             }
+            system.stats.interface_seconds += search_started.elapsed().as_secs_f64();
             state.u_committed = state.u.clone();
             let record = StepRecord {
                 stage: stage.name.clone(),
@@ -239,7 +279,9 @@ pub fn run(model: &Model, options: &RunOptions, sink: &mut dyn StepSink) -> Resu
                     .count(),
                 balance,
             };
+            let written = Instant::now();
             sink.step_done(&results, &record, &system.stats)?;
+            system.stats.output_seconds += written.elapsed().as_secs_f64();
             targets.remove(0);
             reached = target;
             if stage.load_factors.iter().any(|&f| (f - target).abs() < 1e-15) {
@@ -545,8 +587,11 @@ fn equilibrium(
     let mut state_changes = Vec::new();
     let characteristic = model.mesh.characteristic_length();
     let mut kept_stiffness: Option<(Vec<bool>, Vec<f64>)> = None;
+    let mut matrix_key: Option<u64> = None;
     let mut dependent_retries = 0;
     for iteration in 1..=options.analysis.max_iterations {
+        system.stats.iterations += 1;
+        let t = Instant::now();
         if options.analysis.reassociation != ReassociationRule::None {
             reassociate::clip_tributaries(&model.mesh, &mut state.interfaces, &state.u);
         }
@@ -600,9 +645,38 @@ fn equilibrium(
                     })
                     .collect()
             });
+        let key = system::matrix_key(
+            &rows,
+            stiffness,
+            coupling.as_deref(),
+            &state.ruptured,
+            &state.interfaces,
+            dofs,
+            elements.typical_stiffness(),
+        );
+        system.stats.interface_seconds += t.elapsed().as_secs_f64();
+        // The matrix of the last solve, when nothing in it changed (constant stiffness, no state
+        // change): no assembly, no factorisation, one solve.
+        let t = Instant::now();
+        let reuse = matrix_key == Some(key);
         let IterationSystem { triplets, rhs, scale, active } =
-            iteration_system(elements, &rows, &springs, stiffness, coupling.as_deref(), dofs, state);
-        let (x, lin_res) = match system.solve(dofs.size(), &triplets, &rhs, active) {
+            iteration_system(elements, &rows, &springs, stiffness, coupling.as_deref(), dofs, state, !reuse);
+        system.stats.assembly_seconds += t.elapsed().as_secs_f64();
+        let reused = if reuse { system.solve_again(&rhs).ok() } else { None };
+        let triplets = match reused {
+            Some(_) => triplets,
+            None if reuse => {
+                // the reused factorisation did not give a clean solution: assemble and factorise
+                let t = Instant::now();
+                let again =
+                    iteration_system(elements, &rows, &springs, stiffness, coupling.as_deref(), dofs, state, true);
+                system.stats.assembly_seconds += t.elapsed().as_secs_f64();
+                again.triplets
+            }
+            None => triplets,
+        };
+        matrix_key = Some(key);
+        let (x, lin_res) = match reused.map_or_else(|| system.solve(dofs.size(), &triplets, &rhs, active), Ok) {
             Ok(v) => v,
             Err(Failure::Singular { equations }) => {
                 // Normal rows that depend on other rows (after a re-association, two reinforcement
@@ -648,6 +722,7 @@ fn equilibrium(
         for k in 0..dofs.multipliers.len() {
             state.lambda[k] += scale * x[dofs.multiplier_equation(k)];
         }
+        let t = Instant::now();
         if options.analysis.reassociation != ReassociationRule::None {
             reassociate::clip_tributaries(&model.mesh, &mut state.interfaces, &state.u);
         }
@@ -655,6 +730,7 @@ fn equilibrium(
         let springs = evaluate_springs(state, &rows);
         let mut changes = update_active_set(model, state, &rows, dofs, bar_only, characteristic, &mut flips);
         changes.extend(rupture_bars(elements, state));
+        system.stats.interface_seconds += t.elapsed().as_secs_f64();
         state_changes.extend(changes.iter().cloned());
         // Converged when the out-of-balance force is small, the gaps are closed, no point changed
         // state, and either the correction is small against the increment or this was the first
@@ -662,8 +738,10 @@ fn equilibrium(
         let increment2: f64 = state.u.iter().zip(&u_increment_start).map(|(a, b)| (a - b).powi(2)).sum();
         let displacement_ok = iteration == 1
             || correction2.sqrt() <= options.analysis.displacement_tolerance * increment2.sqrt().max(f64::MIN_POSITIVE);
+        let t = Instant::now();
         let taus: Vec<f64> = springs.iter().map(|r| r.tau).collect();
         let (residual, reference) = out_of_balance(elements, &rows, &taus, state, dofs);
+        system.stats.residual_seconds += t.elapsed().as_secs_f64();
         if !residual.is_finite() {
             return Err(IncrementError::NotConverged {
                 iterations: iteration,
@@ -840,6 +918,7 @@ pub struct IterationSystem {
 
 /// Assemble the system of one iteration from the current state: out-of-balance forces on the free
 /// DOFs, −g on active rows (no transverse motion on held rows), −λ on the rest.
+#[allow(clippy::too_many_arguments)]
 fn iteration_system(
     elements: &ElementMatrices,
     rows: &InterfaceRows,
@@ -848,6 +927,7 @@ fn iteration_system(
     spring_coupling: Option<&[f64]>,
     dofs: &DofMap,
     state: &State,
+    with_matrix: bool,
 ) -> IterationSystem {
     let n_dof = state.u.len();
     let gaps = rows.gaps(&state.u);
@@ -879,16 +959,20 @@ fn iteration_system(
             -state.lambda[k]
         };
     }
-    let triplets = system::assemble(
-        elements,
-        rows,
-        spring_stiffness,
-        spring_coupling,
-        &state.ruptured,
-        &state.interfaces,
-        dofs,
-        scale,
-    );
+    let triplets = if with_matrix {
+        system::assemble(
+            elements,
+            rows,
+            spring_stiffness,
+            spring_coupling,
+            &state.ruptured,
+            &state.interfaces,
+            dofs,
+            scale,
+        )
+    } else {
+        crate::assembly::Triplets::default()
+    };
     IterationSystem { triplets, rhs, scale, active }
 }
 
@@ -930,7 +1014,7 @@ pub fn first_system(model: &Model) -> (usize, IterationSystem) {
         .iter()
         .map(|s| state.interfaces[s.interface].law.shear_stiffness().unwrap_or(0.0) * s.tributary)
         .collect();
-    (dofs.size(), iteration_system(&elements, &rows, &springs, &stiffness, None, &dofs, &state))
+    (dofs.size(), iteration_system(&elements, &rows, &springs, &stiffness, None, &dofs, &state, true))
 }
 
 /// ‖out-of-balance force on the free DOFs‖ and the reference force (applied loads and reactions).

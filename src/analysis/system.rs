@@ -275,6 +275,47 @@ pub fn assemble(
     t
 }
 
+/// A fingerprint of everything in the assembled matrix but the element matrices (which do not change
+/// within a run): the rows of the springs and multipliers, the springs' stiffness and coupling, the
+/// ruptured bars, which multipliers are active, and the row scale. Two iterations of one increment
+/// with the same key have the same matrix, so the second needs neither an assembly nor a
+/// factorisation.
+#[allow(clippy::too_many_arguments)]
+pub fn matrix_key(
+    rows: &InterfaceRows,
+    spring_stiffness: &[f64],
+    spring_coupling: Option<&[f64]>,
+    ruptured: &[bool],
+    interfaces: &[Interface],
+    dofs: &DofMap,
+    scale: f64,
+) -> u64 {
+    use std::hash::{Hash, Hasher};
+    let mut h = std::collections::hash_map::DefaultHasher::new();
+    let entries = |row: &[(usize, f64)], h: &mut std::collections::hash_map::DefaultHasher| {
+        row.len().hash(h);
+        for &(d, c) in row {
+            d.hash(h);
+            c.to_bits().hash(h);
+        }
+    };
+    for spring in &rows.springs {
+        entries(&spring.row, &mut h);
+    }
+    for row in &rows.constraint_rows {
+        entries(row, &mut h);
+    }
+    for k in spring_stiffness.iter().chain(spring_coupling.unwrap_or(&[])) {
+        k.to_bits().hash(&mut h);
+    }
+    ruptured.hash(&mut h);
+    for k in 0..dofs.multipliers.len() {
+        multiplier_is_active(interfaces, dofs, k).hash(&mut h);
+    }
+    scale.to_bits().hash(&mut h);
+    h.finish()
+}
+
 /// Internal forces over all displacement DOFs: the elements' K_e·u_e plus the springs' τ·ℓ·row (the
 /// multipliers' Cᵀλ apart). `taus` holds each spring's shear stress.
 pub fn internal_force(
@@ -348,6 +389,22 @@ pub struct SolverStats {
     pub factorize_seconds: f64,
     pub solve_seconds: f64,
     pub max_relative_residual: f64,
+    /// Outer (equilibrium) iterations over the run.
+    pub iterations: usize,
+    /// Time building the triplets and refilling the CSC matrix.
+    pub assembly_seconds: f64,
+    /// Time on interface points: rows, laws, active set, tributary clipping, re-association.
+    pub interface_seconds: f64,
+    /// Time computing the out-of-balance force.
+    pub residual_seconds: f64,
+    /// Time checking each linear solution's residual ‖Ax−b‖/‖b‖ (and refining it).
+    pub check_seconds: f64,
+    /// Time computing and writing each step's results.
+    pub output_seconds: f64,
+    /// MUMPS's estimate of its factorisation memory after the last analysis, MB.
+    pub estimated_memory_mb: Option<f64>,
+    /// Memory MUMPS's last factorisation used (INFOG(22)), MB.
+    pub factor_memory_mb: Option<f64>,
     /// Entries in the factors of the last factorisation, where the backend reports them.
     pub factor_entries: Option<u64>,
     /// Diagnostics that do not stop a run (for example an inertia that differs from the number of
@@ -366,9 +423,9 @@ pub struct LinearSystem {
 
 impl LinearSystem {
     /// A solver for matrices that are `symmetric` or not (MUMPS: SYM=2 or SYM=0).
-    pub fn new(backend: Backend, symmetric: bool) -> Result<Self, SolveError> {
+    pub fn new(backend: Backend, symmetric: bool, options: &linsol::SolverOptions) -> Result<Self, SolveError> {
         Ok(LinearSystem {
-            solver: linsol::make(backend, symmetric)?,
+            solver: linsol::make(backend, symmetric, options)?,
             patterns: PatternCache::default(),
             factorized: None,
             stats: SolverStats::default(),
@@ -388,20 +445,27 @@ impl LinearSystem {
         rhs: &[f64],
         active_multipliers: usize,
     ) -> Result<(Vec<f64>, f64), Failure> {
+        let t = Instant::now();
         let (matrix, new_pattern) = self.patterns.assemble(n, triplets);
+        self.stats.assembly_seconds += t.elapsed().as_secs_f64();
         if new_pattern {
             let t = Instant::now();
-            self.solver.analyse(&matrix)?;
+            let analysed = self.solver.analyse(&matrix);
+            self.stats.estimated_memory_mb = self.solver.estimated_memory_mb();
+            analysed?;
             self.stats.analyses += 1;
             self.stats.analyse_seconds += t.elapsed().as_secs_f64();
             self.factorized = None;
         }
         let same_values = self.factorized.as_ref().is_some_and(|f| f.values == matrix.values);
         if !same_values {
+            // a failed factorisation leaves nothing to reuse
+            self.factorized = None;
             let t = Instant::now();
             self.solver.factorize(&matrix)?;
             self.stats.factorizations += 1;
             self.stats.factor_entries = self.solver.factor_entries();
+            self.stats.factor_memory_mb = self.solver.factor_memory_mb();
             // Inertia check (DESIGN §2): the negative pivots equal the active multipliers when Kc has
             // full row rank, K is positive definite on its null space, supports are eliminated and no
             // tangent is negative. A mismatch is worth knowing, not an error.
@@ -418,24 +482,40 @@ impl LinearSystem {
                 }
             }
             self.stats.factorize_seconds += t.elapsed().as_secs_f64();
-            self.factorized = Some(matrix.clone());
         }
+        self.factorized = Some(matrix);
+        self.solve_again(rhs)
+    }
+
+    /// Solve with the matrix of the last [`LinearSystem::solve`] and its factorisation, for a new
+    /// right-hand side: the constant-stiffness iterations, whose matrix does not change.
+    pub fn solve_again(&mut self, rhs: &[f64]) -> Result<(Vec<f64>, f64), Failure> {
+        let Some(matrix) = self.factorized.as_ref() else {
+            return Err(Failure::Other(SolveError::Backend {
+                backend: self.solver.backend().name(),
+                message: "solve_again called before a factorisation".into(),
+            }));
+        };
         let t = Instant::now();
         let mut x = self.solver.solve(rhs)?;
+        self.stats.solve_seconds += t.elapsed().as_secs_f64();
         self.stats.solves += 1;
-        let mut residual = linsol::relative_residual(&matrix, &x, rhs);
+        let t = Instant::now();
+        let mut residual = linsol::relative_residual(matrix, &x, rhs);
         // Iterative refinement (at most two corrections) when pivoting on the saddle point left more
-        // than round-off in the residual.
+        // than 1e-10 in the residual (the outer iteration corrects anything smaller).
         for _ in 0..2 {
-            if !(residual > 1e-14) || !x.iter().all(|v| v.is_finite()) {
+            if !(residual > 1e-10) || !x.iter().all(|v| v.is_finite()) {
                 break;
             }
             let ax = matrix.mul_vec(&x);
             let r: Vec<f64> = rhs.iter().zip(&ax).map(|(b, a)| b - a).collect();
+            let s = Instant::now();
             let dx = self.solver.solve(&r)?;
+            self.stats.solve_seconds += s.elapsed().as_secs_f64();
             self.stats.solves += 1;
             let refined: Vec<f64> = x.iter().zip(&dx).map(|(a, b)| a + b).collect();
-            let refined_residual = linsol::relative_residual(&matrix, &refined, rhs);
+            let refined_residual = linsol::relative_residual(matrix, &refined, rhs);
             if refined_residual < residual {
                 x = refined;
                 residual = refined_residual;
@@ -443,7 +523,8 @@ impl LinearSystem {
                 break;
             }
         }
-        self.stats.solve_seconds += t.elapsed().as_secs_f64();
+        // the residual checks are geoslip's own work, counted apart from the backend's solves
+        self.stats.check_seconds += t.elapsed().as_secs_f64();
         if !x.iter().all(|v| v.is_finite()) || !(residual < 1e-6) {
             // A numerically singular matrix: LU divides by a (near) zero pivot.
             return Err(Failure::Singular { equations: Vec::new() });

@@ -8,6 +8,9 @@ pub mod faer_lu;
 #[allow(unsafe_code)]
 pub mod native;
 
+#[cfg(all(geoslip_mumps, feature = "mpi"))]
+pub use native::cluster;
+
 use crate::assembly::CscMatrix;
 use crate::error::SolveError;
 
@@ -60,6 +63,98 @@ impl Backend {
     }
 }
 
+/// MUMPS's fill-reducing ordering, ICNTL(7). Debian's sequential MUMPS has Scotch and PORD, its
+/// MPI build PORD only; neither has METIS. docs/performance.md shows the measurements behind the
+/// default.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Ordering {
+    /// Scotch in the sequential build, PORD in the MPI build.
+    #[default]
+    Auto,
+    /// Scotch (ICNTL(7) = 3).
+    Scotch,
+    /// PORD (ICNTL(7) = 4).
+    Pord,
+    /// Approximate minimum degree (ICNTL(7) = 0).
+    Amd,
+}
+
+impl Ordering {
+    /// The concrete ordering `auto` stands for in this build.
+    pub fn resolve(self) -> Ordering {
+        match self {
+            Ordering::Auto if cfg!(feature = "mpi") => Ordering::Pord,
+            Ordering::Auto => Ordering::Scotch,
+            o => o,
+        }
+    }
+
+    /// MUMPS's ICNTL(7) value.
+    pub fn icntl7(self) -> i32 {
+        match self.resolve() {
+            Ordering::Scotch => 3,
+            Ordering::Pord => 4,
+            _ => 0,
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self.resolve() {
+            Ordering::Scotch => "scotch",
+            Ordering::Pord => "pord",
+            _ => "amd",
+        }
+    }
+}
+
+/// Settings that only some backends use.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SolverOptions {
+    /// MUMPS's ordering.
+    pub ordering: Ordering,
+    /// MUMPS keeps its factors on disk (ICNTL(22) = 1), in `MUMPS_OOC_TMPDIR` or `/tmp`.
+    pub out_of_core: bool,
+    /// Memory the run may use in all, MB; `None`: what the machine has available (MemAvailable). A
+    /// model estimated above it stops before it is assembled; a factorisation that MUMPS's analysis
+    /// estimates above what is left of it (the limit less what the run already holds) stops before
+    /// it starts.
+    pub memory_limit_mb: Option<f64>,
+}
+
+impl Default for SolverOptions {
+    fn default() -> Self {
+        SolverOptions { ordering: Ordering::Auto, out_of_core: false, memory_limit_mb: None }
+    }
+}
+
+/// Memory this machine has available now (MemAvailable in /proc/meminfo), MB.
+pub fn available_memory_mb() -> Option<f64> {
+    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb / 1024.0)
+}
+
+/// Resident memory of this process now (VmRSS), MB.
+pub fn resident_memory_mb() -> f64 {
+    process_status_mb("VmRSS:")
+}
+
+/// A memory figure of this process from /proc/self/status (`VmRSS:`, `VmHWM:`, …), MB; NaN where
+/// there is none.
+pub fn process_status_mb(key: &str) -> f64 {
+    std::fs::read_to_string("/proc/self/status")
+        .ok()
+        .and_then(|s| {
+            s.lines()
+                .find(|l| l.starts_with(key))
+                .and_then(|l| l.split_whitespace().nth(1).and_then(|kb| kb.parse::<f64>().ok()))
+        })
+        .map(|kb| kb / 1024.0)
+        .unwrap_or(f64::NAN)
+}
+
 /// A failure that names unknowns by their equation numbers; the analysis turns the numbers into
 /// node, DOF and interface names.
 #[derive(Debug, Clone)]
@@ -92,6 +187,14 @@ pub trait LinearSolver {
     fn factor_entries(&self) -> Option<u64> {
         None
     }
+    /// The backend's own estimate of its factorisation memory after the last analysis, MB.
+    fn estimated_memory_mb(&self) -> Option<f64> {
+        None
+    }
+    /// Memory the last factorisation used, MB (MUMPS: INFOG(22)).
+    fn factor_memory_mb(&self) -> Option<f64> {
+        None
+    }
 }
 
 /// Make a solver for a backend. `symmetric` says whether the matrices it will see are symmetric
@@ -100,13 +203,13 @@ pub trait LinearSolver {
 /// # Errors
 /// [`SolveError::Unavailable`] for a backend that is not compiled into this build, saying how to get
 /// it.
-pub fn make(backend: Backend, symmetric: bool) -> Result<Box<dyn LinearSolver>, SolveError> {
-    let _ = symmetric;
+pub fn make(backend: Backend, symmetric: bool, options: &SolverOptions) -> Result<Box<dyn LinearSolver>, SolveError> {
+    let _ = (symmetric, options);
     match backend.resolve() {
         Backend::Dense => Ok(Box::new(dense_ref::DenseReference::default())),
         Backend::Faer => Ok(Box::new(faer_lu::FaerLu::default())),
         #[cfg(geoslip_mumps)]
-        Backend::Mumps => Ok(Box::new(native::mumps::Mumps::new(symmetric, native::mumps::Ordering::Scotch)?)),
+        Backend::Mumps => Ok(Box::new(native::mumps::Mumps::new(symmetric, options)?)),
         #[cfg(geoslip_umfpack)]
         Backend::Umfpack => Ok(Box::new(native::umfpack::Umfpack::default())),
         other => Err(unavailable(other)),

@@ -3,6 +3,8 @@
 //! Each backend has one struct that owns its native handle: created (and null-checked) in `new`,
 //! freed in `Drop`. No raw pointer leaves this module. MUMPS calls hold `geoslip_sys::MUMPS_LOCK`.
 
+#[cfg(all(geoslip_mumps, feature = "mpi"))]
+pub mod cluster;
 #[cfg(geoslip_mumps)]
 pub mod mumps;
 #[cfg(geoslip_umfpack)]

@@ -1,5 +1,8 @@
-//! MUMPS (sequential build, Debian's `libmumps-seq-dev`), symmetric indefinite (SYM=2, lower
-//! triangle) or unsymmetric (SYM=0).
+//! MUMPS (Debian's sequential `libmumps-seq-dev`, or with the `mpi` feature its MPI build
+//! `libmumps-dev`), symmetric indefinite (SYM=2, lower triangle) or unsymmetric (SYM=0).
+//!
+//! In the MPI build every call is announced to the other ranks first (`cluster.rs`), which make the
+//! same call: the matrix and right-hand side stay on rank 0 (centralised input).
 //!
 //! Settings that were measured to matter (shared/DESIGN.md §2): PAR=1; 1-based indices and a 64-bit
 //! `nnz`; JOB −1 once, JOB 1 once per pattern, JOB 2 for each new set of values, JOB 3 for each
@@ -12,26 +15,18 @@
 use crate::assembly::CscMatrix;
 use crate::error::SolveError;
 use crate::linsol::native::mumps_message;
-use crate::linsol::{Backend, Failure, LinearSolver};
+use crate::linsol::{available_memory_mb, resident_memory_mb, Backend, Failure, LinearSolver, Ordering, SolverOptions};
 use geoslip_sys::mumps as ffi;
 use std::ffi::CStr;
+use std::sync::atomic::{AtomicU64, Ordering as AtomicOrdering};
 
 /// Fortran communicator value that tells MUMPS to use MPI_COMM_WORLD (the sequential stub's only
 /// communicator).
 const USE_COMM_WORLD: i32 = -987654;
 /// How many times a factorisation is retried with a doubled ICNTL(14).
 const WORKSPACE_RETRIES: usize = 6;
-
-/// Fill-reducing ordering, ICNTL(7).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Ordering {
-    /// 3: Scotch (Debian's sequential build has it).
-    Scotch = 3,
-    /// 4: PORD (both Debian builds have it).
-    Pord = 4,
-    /// 0: approximate minimum degree, built into MUMPS.
-    Amd = 0,
-}
+/// Numbers MUMPS instances, so that the other ranks of an MPI run can tell them apart.
+static NEXT_INSTANCE: AtomicU64 = AtomicU64::new(1);
 
 /// What the last factorisation reported.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -40,8 +35,10 @@ pub struct FactorInfo {
     pub negative_pivots: i64,
     /// INFOG(29): entries in the factors.
     pub factor_entries: i64,
-    /// INFOG(22): memory used by the factorisation, MB.
+    /// INFOG(22): memory used by the factorisation, MB (summed over the ranks of an MPI run).
     pub memory_mb: i64,
+    /// INFOG(17) (INFOG(27) out of core): the analysis's estimate of that memory, MB.
+    pub estimated_memory_mb: i64,
     /// ICNTL(14) that the factorisation finally ran with.
     pub workspace_percent: i32,
     /// How many times the factorisation was retried with more workspace.
@@ -51,8 +48,9 @@ pub struct FactorInfo {
 /// One MUMPS instance: the handle, and the index and value arrays it points into.
 pub struct Mumps {
     id: Box<ffi::DMUMPS_STRUC_C>,
+    instance: u64,
     symmetric: bool,
-    ordering: Ordering,
+    options: SolverOptions,
     n: usize,
     /// CSC entry positions passed to MUMPS (all of them, or the lower triangle for SYM=2).
     positions: Vec<usize>,
@@ -86,15 +84,16 @@ impl Mumps {
     ///
     /// # Errors
     /// A backend error with MUMPS's message, or a version mismatch.
-    pub fn new(symmetric: bool, ordering: Ordering) -> Result<Mumps, SolveError> {
-        let id = start_instance(symmetric).map_err(|(code, info2)| SolveError::Backend {
+    pub fn new(symmetric: bool, options: &SolverOptions) -> Result<Mumps, SolveError> {
+        let (id, instance) = start_instance(symmetric).map_err(|(code, info2)| SolveError::Backend {
             backend: "mumps",
             message: format!("initialisation: {}", mumps_message(code, info2)),
         })?;
         let mut mumps = Mumps {
             id,
+            instance,
             symmetric,
-            ordering,
+            options: options.clone(),
             n: 0,
             positions: Vec::new(),
             irn: Vec::new(),
@@ -149,16 +148,52 @@ impl Mumps {
         icntl(id, 2, -1); // diagnostics: off
         icntl(id, 3, -1); // global information: off
         icntl(id, 4, 0); // print level
-        icntl(id, 7, self.ordering as i32);
+        icntl(id, 7, self.options.ordering.icntl7());
         icntl(id, 8, 7); // scaling recomputed at each factorisation
         icntl(id, 13, 1);
         icntl(id, 14, self.workspace_percent);
+        icntl(id, 22, i32::from(self.options.out_of_core)); // factors on disk
         icntl(id, 24, 1); // null-pivot detection
+    }
+
+    /// After the analysis: stop when the factorisation would need more memory than the run may use.
+    fn check_memory(&mut self) -> Result<(), Failure> {
+        let id = &*self.id;
+        // INFOG(17) / INFOG(27): estimated total of MUMPS's data for the factorisation, MB, in core /
+        // out of core, summed over the ranks; a margin for ICNTL(14).
+        let estimate = if self.options.out_of_core { infog(id, 27) } else { infog(id, 17) } as f64;
+        self.info.estimated_memory_mb = estimate as i64;
+        // what is left for the factorisation: the run's limit less what it already holds, or what the
+        // machine has available now
+        let left = match self.options.memory_limit_mb {
+            Some(limit) => Some((limit - resident_memory_mb()).max(0.0)),
+            None => available_memory_mb(),
+        };
+        let Some(limit) = left else { return Ok(()) };
+        if estimate > limit {
+            let hint = if self.options.out_of_core {
+                "run it with geoslip-mpi on more machines (docs/cluster.md), or coarsen the mesh".to_string()
+            } else {
+                format!(
+                    "try --out-of-core (MUMPS then estimates {} MB in memory), or geoslip-mpi on more machines (docs/cluster.md)",
+                    infog(id, 27)
+                )
+            };
+            return Err(Failure::Other(SolveError::OutOfMemory(Box::new(crate::error::MemoryShortfall {
+                backend: "mumps",
+                what: "the factorisation (MUMPS's estimate after its analysis)",
+                needed_mb: estimate,
+                available_mb: limit,
+                hint,
+            }))));
+        }
+        Ok(())
     }
 }
 
-/// A new MUMPS instance (JOB = −1), or INFOG(1) and INFOG(2) when that fails.
-fn start_instance(symmetric: bool) -> Result<Box<ffi::DMUMPS_STRUC_C>, (i32, i64)> {
+/// A new MUMPS instance (JOB = −1) and its number, or INFOG(1) and INFOG(2) when that fails.
+fn start_instance(symmetric: bool) -> Result<(Box<ffi::DMUMPS_STRUC_C>, u64), (i32, i64)> {
+    let instance = NEXT_INSTANCE.fetch_add(1, AtomicOrdering::Relaxed);
     // SAFETY: DMUMPS_STRUC_C is a plain C struct of integers, floats, arrays and pointers, for which
     // all-zero is a valid value; MUMPS initialises it in JOB = −1.
     let mut id: Box<ffi::DMUMPS_STRUC_C> = Box::new(unsafe { std::mem::zeroed() });
@@ -166,7 +201,7 @@ fn start_instance(symmetric: bool) -> Result<Box<ffi::DMUMPS_STRUC_C>, (i32, i64
     id.par = 1;
     id.sym = if symmetric { 2 } else { 0 };
     id.job = -1;
-    call(&mut id);
+    call(&mut id, instance);
     let code = infog(&id, 1);
     if code < 0 {
         let info2 = infog(&id, 2) as i64;
@@ -174,12 +209,17 @@ fn start_instance(symmetric: bool) -> Result<Box<ffi::DMUMPS_STRUC_C>, (i32, i64
         std::mem::forget(id);
         return Err((code, info2));
     }
-    Ok(id)
+    Ok((id, instance))
 }
 
-/// The one place that enters MUMPS: under the global lock.
-fn call(id: &mut ffi::DMUMPS_STRUC_C) {
+/// The one place that enters MUMPS: under the global lock, and in an MPI run after telling the other
+/// ranks to make the same call.
+fn call(id: &mut ffi::DMUMPS_STRUC_C, instance: u64) {
     let _guard = geoslip_sys::MUMPS_LOCK.lock().unwrap_or_else(|p| p.into_inner());
+    #[cfg(feature = "mpi")]
+    super::cluster::announce(instance, id);
+    #[cfg(not(feature = "mpi"))]
+    let _ = instance;
     // SAFETY: `id` is a live instance (JOB = −1 was called first, or this is that call); every
     // pointer in it was set by `Mumps` to a buffer it owns and keeps alive and unmoved until the next
     // call replaces it.
@@ -220,7 +260,7 @@ impl LinearSolver for Mumps {
         id.jcn = self.jcn.as_mut_ptr();
         id.a = self.a.as_mut_ptr();
         id.job = 1;
-        call(id);
+        call(id, self.instance);
         let code = infog(id, 1);
         if code < 0 {
             self.analysed = false;
@@ -228,7 +268,7 @@ impl LinearSolver for Mumps {
         }
         self.analysed = true;
         self.factorized = false;
-        Ok(())
+        self.check_memory()
     }
 
     fn factorize(&mut self, matrix: &CscMatrix) -> Result<(), Failure> {
@@ -246,7 +286,7 @@ impl LinearSolver for Mumps {
             id.jcn = self.jcn.as_mut_ptr();
             id.a = self.a.as_mut_ptr();
             id.job = 2;
-            call(id);
+            call(id, self.instance);
             let code = infog(id, 1);
             if (code == -8 || code == -9) && retries < WORKSPACE_RETRIES {
                 // Not enough workspace: double ICNTL(14) and redo the factorisation only.
@@ -277,6 +317,7 @@ impl LinearSolver for Mumps {
                     v => v,
                 },
                 memory_mb: infog(id, 22) as i64,
+                estimated_memory_mb: self.info.estimated_memory_mb,
                 workspace_percent: self.workspace_percent,
                 workspace_retries: retries,
             };
@@ -295,7 +336,7 @@ impl LinearSolver for Mumps {
         id.nrhs = 1;
         id.lrhs = self.n as i32;
         id.job = 3;
-        call(id);
+        call(id, self.instance);
         id.rhs = std::ptr::null_mut();
         let code = infog(id, 1);
         if code < 0 {
@@ -311,6 +352,14 @@ impl LinearSolver for Mumps {
     fn factor_entries(&self) -> Option<u64> {
         self.factorized.then_some(self.info.factor_entries.max(0) as u64)
     }
+
+    fn estimated_memory_mb(&self) -> Option<f64> {
+        self.analysed.then_some(self.info.estimated_memory_mb as f64)
+    }
+
+    fn factor_memory_mb(&self) -> Option<f64> {
+        self.factorized.then_some(self.info.memory_mb as f64)
+    }
 }
 
 impl Drop for Mumps {
@@ -322,7 +371,7 @@ impl Drop for Mumps {
         id.a = self.a.as_mut_ptr();
         id.rhs = std::ptr::null_mut();
         id.job = -2;
-        call(id);
+        call(id, self.instance);
     }
 }
 
@@ -334,11 +383,11 @@ unsafe impl Send for Mumps {}
 /// `geoslip bench` measures the wrapper against it. Returns INFOG(1) of the first failing phase (0
 /// on success); `rhs` holds the solution.
 pub fn bare_run(symmetric: bool, n: usize, irn: &mut [i32], jcn: &mut [i32], a: &mut [f64], rhs: &mut [f64]) -> i32 {
-    let mut id = match start_instance(symmetric) {
-        Ok(id) => id,
+    let (mut id, instance) = match start_instance(symmetric) {
+        Ok(x) => x,
         Err((code, _)) => return code,
     };
-    for (i, v) in [(1, -1), (2, -1), (3, -1), (4, 0), (7, Ordering::Scotch as i32), (8, 7), (13, 1), (14, 20), (24, 1)]
+    for (i, v) in [(1, -1), (2, -1), (3, -1), (4, 0), (7, Ordering::Auto.icntl7()), (8, 7), (13, 1), (14, 20), (24, 1)]
     {
         icntl(&mut id, i, v);
     }
@@ -353,7 +402,7 @@ pub fn bare_run(symmetric: bool, n: usize, irn: &mut [i32], jcn: &mut [i32], a: 
     let mut status = 0;
     for job in [1, 2, 3] {
         id.job = job;
-        call(&mut id);
+        call(&mut id, instance);
         if infog(&id, 1) < 0 {
             status = infog(&id, 1);
             break;
@@ -361,7 +410,7 @@ pub fn bare_run(symmetric: bool, n: usize, irn: &mut [i32], jcn: &mut [i32], a: 
     }
     id.rhs = std::ptr::null_mut();
     id.job = -2;
-    call(&mut id);
+    call(&mut id, instance);
     status
 }
 
@@ -403,12 +452,12 @@ mod tests {
         // system beyond what the analysis planned; with ICNTL(14) = 0 (no margin) the workspace
         // overflows (INFOG(1) = −8 or −9) and the factorisation must be retried with more.
         let (a, b) = saddle_chain(3000, 0.0);
-        let mut reference = Mumps::new(true, Ordering::Scotch).unwrap();
+        let mut reference = Mumps::new(true, &SolverOptions::default()).unwrap();
         reference.analyse(&a).unwrap();
         reference.factorize(&a).unwrap();
         let x_ref = reference.solve(&b).unwrap();
         for _ in 0..3 {
-            let mut mumps = Mumps::new(true, Ordering::Scotch).unwrap();
+            let mut mumps = Mumps::new(true, &SolverOptions::default()).unwrap();
             mumps.set_workspace_percent(0);
             mumps.set_pivot_threshold(0.5);
             mumps.analyse(&a).unwrap();
@@ -433,7 +482,8 @@ mod tests {
         t.push(1, 0, -1.0);
         let a = PatternCache::default().assemble(3, &t).0;
         for symmetric in [true, false] {
-            let mut mumps = Mumps::new(symmetric, Ordering::Pord).unwrap();
+            let mut mumps =
+                Mumps::new(symmetric, &SolverOptions { ordering: Ordering::Pord, ..SolverOptions::default() }).unwrap();
             mumps.analyse(&a).unwrap();
             match mumps.factorize(&a) {
                 Err(Failure::Singular { equations }) => assert_eq!(equations, vec![2]),
@@ -444,7 +494,7 @@ mod tests {
 
     #[test]
     fn the_library_is_the_version_of_the_header() {
-        let mumps = Mumps::new(true, Ordering::Scotch).unwrap();
+        let mumps = Mumps::new(true, &SolverOptions::default()).unwrap();
         assert!(mumps.version().starts_with("5."), "{}", mumps.version());
     }
 }
