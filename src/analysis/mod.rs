@@ -182,6 +182,12 @@ pub fn run(model: &Model, options: &RunOptions, sink: &mut dyn StepSink) -> Resu
         frozen_sigma_n: None,
         ruptured: vec![false; model.mesh.bars.len()],
     };
+    let reserve = |interfaces: &mut [Interface]| {
+        if options.analysis.reassociation != ReassociationRule::None && options.analysis.reserved_segments > 0 {
+            crate::interface::reserve_windows(interfaces, options.analysis.reserved_segments);
+        }
+    };
+    reserve(&mut state.interfaces);
     let bar_only = bar_only_nodes(model);
     let mut held = vec![false; dof_count];
     for &(n, d) in &model.supports {
@@ -250,6 +256,7 @@ pub fn run(model: &Model, options: &RunOptions, sink: &mut dyn StepSink) -> Resu
             if options.analysis.reassociation != ReassociationRule::None {
                 reassociations.extend(reassociate::uncover_slits(&model.mesh, &mut state.interfaces, &state.u));
             }
+            reserve(&mut state.interfaces);
             let redundant_now = redundant.clone();
             if options.analysis.reassociation != ReassociationRule::None {
                 // new associations and clipped lengths can make two rows repeat each other (both

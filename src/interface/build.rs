@@ -79,6 +79,7 @@ fn points_on(mesh: &Mesh, face_master: &[NodeIndex], slave: &[NodeIndex]) -> Vec
                 gap0: 0.0,
                 shear: Default::default(),
                 slit_tip: false,
+                reserved: None,
             }
         })
         .collect()

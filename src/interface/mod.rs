@@ -71,6 +71,10 @@ pub struct ContactPoint {
     /// The lower face's point at a slit tip (a reinforcement tail inside the soil): both faces meet
     /// at one soil node there, so its normal row always repeats the upper face's and is carried by it.
     pub slit_tip: bool,
+    /// Master segments `lo..=hi` whose nodes the point's rows keep in the sparsity pattern (as zeros
+    /// where they carry nothing), so that sliding within them needs no new analysis; `None`: only
+    /// the current segment. Set by [`reserve_windows`].
+    pub reserved: Option<(usize, usize)>,
 }
 
 impl ContactPoint {
@@ -123,11 +127,28 @@ impl ContactFace {
         }
     }
 
-    /// `+v` on the slave node and `−N_i(ξ)·v` on the master segment's nodes.
+    /// `+v` on the slave node and `−N_i(ξ)·v` on the master segment's nodes, and zeros on the other
+    /// nodes of the point's reserved segments (in master order, so that the pattern is the same for
+    /// every segment within them).
     pub fn relative_row(&self, point: &ContactPoint, v: [f64; 2]) -> Row {
-        let (a, b) = (self.master[point.segment], self.master[point.segment + 1]);
         let (na, nb) = (1.0 - point.xi, point.xi);
-        vec![(point.slave, v), (a, [-na * v[0], -na * v[1]]), (b, [-nb * v[0], -nb * v[1]])]
+        let (lo, hi) = match point.reserved {
+            Some((lo, hi)) => (lo.min(point.segment), hi.max(point.segment)),
+            None => (point.segment, point.segment),
+        };
+        let mut row = Vec::with_capacity(hi - lo + 3);
+        row.push((point.slave, v));
+        for k in lo..=hi + 1 {
+            let n = if k == point.segment {
+                na
+            } else if k == point.segment + 1 {
+                nb
+            } else {
+                0.0
+            };
+            row.push((self.master[k], [-n * v[0], -n * v[1]]));
+        }
+        row
     }
 
     /// The normal constraint row of a point.
@@ -139,6 +160,29 @@ impl ContactFace {
     pub fn tangential_row(&self, point: &ContactPoint) -> Row {
         self.relative_row(point, point.tangent)
     }
+}
+
+/// Reserve `each_side` master segments on either side of each point's segment in its rows'
+/// sparsity pattern. The reservation is kept while every point stays within its own; once one
+/// leaves (the pattern changes, so a new analysis is due anyway) every window is centred again on
+/// its point's segment. The points then leave together, and a run needs about
+/// 1 + (largest slip ÷ `each_side` segments) analyses. Returns whether the windows were reset.
+pub fn reserve_windows(interfaces: &mut [Interface], each_side: usize) -> bool {
+    // a tie does not slide
+    let sliding = || interfaces.iter().filter(|i| !i.law.is_tie()).flat_map(|i| i.faces.iter());
+    let all_inside = sliding().flat_map(|f| f.points.iter()).all(|p| {
+        p.reserved.is_some_and(|(lo, hi)| (lo..=hi).contains(&p.segment))
+    });
+    if all_inside {
+        return false;
+    }
+    for face in interfaces.iter_mut().filter(|i| !i.law.is_tie()).flat_map(|i| i.faces.iter_mut()) {
+        let last = face.master.len().saturating_sub(2);
+        for p in &mut face.points {
+            p.reserved = Some((p.segment.saturating_sub(each_side), (p.segment + each_side).min(last)));
+        }
+    }
+    true
 }
 
 /// Closest-point projection of `x` onto the polyline `path`: `(segment, ξ, signed distance along

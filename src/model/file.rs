@@ -104,6 +104,9 @@ pub struct AnalysisSettings {
     pub max_cutbacks: usize,
     /// Hold σn at its value at the start of each stage.
     pub freeze_normal_stress: bool,
+    /// Master segments reserved on either side of each interface point in the sparsity pattern, so
+    /// that sliding within them needs no new symbolic analysis (0: none).
+    pub reserved_segments: usize,
 }
 
 impl Default for AnalysisSettings {
@@ -116,6 +119,7 @@ impl Default for AnalysisSettings {
             max_iterations: 300,
             max_cutbacks: 8,
             freeze_normal_stress: false,
+            reserved_segments: 2,
         }
     }
 }
