@@ -31,9 +31,11 @@ fn run(reserved: usize, backend: Backend) -> (Vec<(f64, f64)>, usize) {
     file.analysis.reserved_segments = reserved;
     let model = common::model(&file, "sliding-grid.toml");
     let mut sink = Collect::default();
-    let stats = analysis::run(&model, &RunOptions::for_model(&model, backend), &mut sink).unwrap_or_else(|e| panic!("{e}"));
+    let stats =
+        analysis::run(&model, &RunOptions::for_model(&model, backend), &mut sink).unwrap_or_else(|e| panic!("{e}"));
     let head = model.node_sets["grid.head"][0];
-    let curve = sink.steps.iter().map(|(_, r)| (-r.displacement_vector[2 * head], -r.reaction_vector[2 * head])).collect();
+    let curve =
+        sink.steps.iter().map(|(_, r)| (-r.displacement_vector[2 * head], -r.reaction_vector[2 * head])).collect();
     (curve, stats.analyses)
 }
 

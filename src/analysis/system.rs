@@ -16,6 +16,40 @@ pub struct ElementMatrices {
     pub blocks: Vec<(Vec<usize>, DMatrix<f64>)>,
     /// For each bar (in mesh order): its block and its law. Solid blocks come first.
     pub bars: Vec<BarLaw>,
+    /// Mean absolute diagonal entry of the blocks (see [`ElementMatrices::typical_stiffness`]).
+    typical: f64,
+}
+
+/// Sum per-DOF contributions of element blocks over `n` DOFs, in parallel: the blocks are cut into a
+/// fixed number of runs (not one per thread), each summed into a vector of its own, and the vectors
+/// are added in order, so that the result does not depend on the number of threads.
+fn par_block_sum(
+    blocks: &[(Vec<usize>, DMatrix<f64>)],
+    n: usize,
+    each: impl Fn(&[usize], &DMatrix<f64>, &mut [f64]) + Sync,
+) -> Vec<f64> {
+    use rayon::prelude::*;
+    const RUNS: usize = 4;
+    const SEQUENTIAL_BELOW: usize = 4096;
+    let run = if blocks.len() < SEQUENTIAL_BELOW { blocks.len().max(1) } else { blocks.len().div_ceil(RUNS) };
+    let parts: Vec<Vec<f64>> = blocks
+        .par_chunks(run)
+        .map(|chunk| {
+            let mut f = vec![0.0; n];
+            for (dl, k) in chunk {
+                each(dl, k, &mut f);
+            }
+            f
+        })
+        .collect();
+    let mut parts = parts.into_iter();
+    let mut total = parts.next().unwrap_or_else(|| vec![0.0; n]);
+    for part in parts {
+        for (t, p) in total.iter_mut().zip(&part) {
+            *t += p;
+        }
+    }
+    total
 }
 
 /// A bar's axial law: linear elastic, optionally tension-only, optionally rupturing at T_ult.
@@ -55,17 +89,25 @@ impl BarLaw {
 
 impl ElementMatrices {
     pub fn compute(model: &Model) -> Self {
+        use rayon::prelude::*;
         let mesh = &model.mesh;
-        let mut blocks = Vec::with_capacity(mesh.solids.len() + mesh.bars.len());
-        for (s, e) in mesh.solids.iter().enumerate() {
-            let coords: Vec<[f64; 2]> = e.nodes.iter().map(|&n| mesh.position(n)).collect();
-            let m = model.soil(s);
-            let material = solid::PlaneStrain { youngs_modulus: m.youngs_modulus, poissons_ratio: m.poissons_ratio };
-            // Validation has checked every Jacobian; a failure here would be a bug, not bad input.
-            let k = solid::stiffness(e.kind, &coords, &material)
-                .expect("element Jacobians were checked when the model was read");
-            blocks.push((dofs_of(&e.nodes), k));
-        }
+        // the soil elements in parallel, collected in mesh order
+        let mut blocks: Vec<(Vec<usize>, DMatrix<f64>)> = mesh
+            .solids
+            .par_iter()
+            .enumerate()
+            .map(|(s, e)| {
+                let coords: Vec<[f64; 2]> = e.nodes.iter().map(|&n| mesh.position(n)).collect();
+                let m = model.soil(s);
+                let material =
+                    solid::PlaneStrain { youngs_modulus: m.youngs_modulus, poissons_ratio: m.poissons_ratio };
+                // Validation has checked every Jacobian; a failure here would be a bug, not bad input.
+                let k = solid::stiffness(e.kind, &coords, &material)
+                    .expect("element Jacobians were checked when the model was read");
+                (dofs_of(&e.nodes), k)
+            })
+            .collect();
+        blocks.reserve(mesh.bars.len());
         let mut bars = Vec::with_capacity(mesh.bars.len());
         for b in &mesh.bars {
             let m = &model.reinforcements[b.material].1;
@@ -83,11 +125,17 @@ impl ElementMatrices {
             });
             blocks.push((dofs_of(&b.nodes), DMatrix::from_fn(4, 4, |i, j| k[(i, j)])));
         }
-        ElementMatrices { blocks, bars }
+        let mut elements = ElementMatrices { blocks, bars, typical: 1.0 };
+        elements.typical = elements.mean_diagonal();
+        elements
     }
 
     /// Mean absolute diagonal entry of the element matrices: the scale of the constraint rows.
     pub fn typical_stiffness(&self) -> f64 {
+        self.typical
+    }
+
+    fn mean_diagonal(&self) -> f64 {
         let (sum, count) = self
             .blocks
             .iter()
@@ -325,9 +373,8 @@ pub fn internal_force(
     ruptured: &[bool],
     u: &[f64],
 ) -> Vec<f64> {
-    let mut f = vec![0.0; u.len()];
     let first_bar = elements.bars.first().map(|b| b.block).unwrap_or(elements.blocks.len());
-    for (dl, k) in &elements.blocks[..first_bar] {
+    let mut f = par_block_sum(&elements.blocks[..first_bar], u.len(), |dl, k, f| {
         for (a, &da) in dl.iter().enumerate() {
             let mut s = 0.0;
             for (b, &db) in dl.iter().enumerate() {
@@ -335,7 +382,7 @@ pub fn internal_force(
             }
             f[da] += s;
         }
-    }
+    });
     for (i, bar) in elements.bars.iter().enumerate() {
         let dl = &elements.blocks[bar.block].0;
         let t = bar.force(u, dl, ruptured.get(i).copied().unwrap_or(false));
@@ -357,14 +404,13 @@ pub fn internal_force(
 /// magnitudes of the element forces that cancel there) times a few ε. A residual below it cannot be
 /// reduced by iterating.
 pub fn round_off_floor(elements: &ElementMatrices, u: &[f64]) -> f64 {
-    let mut f = vec![0.0f64; u.len()];
-    for (dl, k) in &elements.blocks {
+    let f = par_block_sum(&elements.blocks, u.len(), |dl, k, f| {
         for (a, &da) in dl.iter().enumerate() {
             for (b, &db) in dl.iter().enumerate() {
                 f[da] += (k[(a, b)] * u[db]).abs();
             }
         }
-    }
+    });
     64.0 * f64::EPSILON * f.iter().map(|v| v * v).sum::<f64>().sqrt()
 }
 

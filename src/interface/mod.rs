@@ -170,9 +170,9 @@ impl ContactFace {
 pub fn reserve_windows(interfaces: &mut [Interface], each_side: usize) -> bool {
     // a tie does not slide
     let sliding = || interfaces.iter().filter(|i| !i.law.is_tie()).flat_map(|i| i.faces.iter());
-    let all_inside = sliding().flat_map(|f| f.points.iter()).all(|p| {
-        p.reserved.is_some_and(|(lo, hi)| (lo..=hi).contains(&p.segment))
-    });
+    let all_inside = sliding()
+        .flat_map(|f| f.points.iter())
+        .all(|p| p.reserved.is_some_and(|(lo, hi)| (lo..=hi).contains(&p.segment)));
     if all_inside {
         return false;
     }
