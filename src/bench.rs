@@ -226,7 +226,8 @@ pub struct NonlinearMeasurement {
     pub factorize_seconds: f64,
     pub solve_seconds: f64,
     pub output_seconds: f64,
-    /// Resident memory with the model built, before the run, MB.
+    /// The model's own storage: the model, its element matrices and its assembled system
+    /// (`analysis::model_memory_estimate_mb`, calibrated on the "model and assembly only" rows), MB.
     pub model_memory_mb: f64,
     pub peak_memory_mb: f64,
     /// MUMPS's INFOG(22) of the last factorisation, MB.
@@ -268,7 +269,7 @@ pub fn measure_nonlinear(dofs: usize, backend: Backend, ordering: linsol::Orderi
         layers: model.interfaces.iter().filter(|i| i.slit_of.is_none()).count(),
         stations: model.interfaces.iter().filter(|i| i.slit_of.is_none()).map(|i| i.faces[0].points.len()).sum(),
         element_length: model.mesh.characteristic_length(),
-        model_memory_mb: resident_memory_mb(),
+        model_memory_mb: analysis::model_memory_estimate_mb(&model),
         ..NonlinearMeasurement::default()
     };
     let options = analysis::RunOptions {
