@@ -354,8 +354,6 @@ fn run_case(
     peaks: &mut Vec<crate::output::TargetPeak>,
 ) -> Result<(), crate::Error> {
     let started = std::time::Instant::now();
-    let model = model.clone();
-    let out = out.to_path_buf();
     let options = RunOptions { solver: solver_options.clone(), ..RunOptions::for_model(&model, solver) };
     let solver_name = match solver.resolve() {
         Backend::Mumps => format!(

@@ -38,6 +38,8 @@ pub struct VtkWriter {
     dir: PathBuf,
     pvd: PathBuf,
     node_ids: Vec<u64>,
+    /// Node id → position in `node_ids`, made once.
+    node_index: HashMap<u64, usize>,
     node_x: Vec<[f64; 2]>,
     soil_cells: Vec<(CellType, Vec<u64>)>,
     soil_material: Vec<i32>,
@@ -69,6 +71,7 @@ impl VtkWriter {
             dir: out.join("vtk"),
             pvd: out.join("results.pvd"),
             node_ids: mesh.nodes.iter().map(|n| n.id).collect(),
+            node_index: mesh.nodes.iter().enumerate().map(|(i, n)| (n.id, i)).collect(),
             node_x: mesh.nodes.iter().map(|n| n.x).collect(),
             soil_cells,
             soil_material: mesh.solids.iter().map(|s| s.material as i32).collect(),
@@ -88,15 +91,14 @@ impl VtkWriter {
             format!("step-{time:04}-reinforcement.vtu"),
             format!("step-{time:04}-interface.vtu"),
         ];
-        let index: HashMap<u64, usize> = self.node_ids.iter().enumerate().map(|(i, &id)| (id, i)).collect();
+        let index = &self.node_index;
         let mut u = vec![[0.0; 2]; self.node_ids.len()];
         for (id, _, d) in &r.displacements {
             if let Some(&i) = index.get(id) {
                 u[i] = *d;
             }
         }
-        let grids =
-            [self.soil(r, &u, &index), self.reinforcement(r, &u, &index), interface(r, &u, &index, &self.node_x)];
+        let grids = [self.soil(r, &u), self.reinforcement(r, &u), interface(r, &u, index, &self.node_x)];
         for (grid, name) in grids.into_iter().zip(&names) {
             let path = self.dir.join(name);
             let mut bytes = Vec::new();
@@ -130,7 +132,7 @@ impl VtkWriter {
         s
     }
 
-    fn soil(&self, r: &StepResults, u: &[[f64; 2]], _index: &HashMap<u64, usize>) -> UnstructuredGridPiece {
+    fn soil(&self, r: &StepResults, u: &[[f64; 2]]) -> UnstructuredGridPiece {
         let points = flat_points(self.node_x.iter().copied());
         let (cells, types) = cells(self.soil_cells.iter().cloned());
         // Element averages of the Gauss-point stress and strain, as symmetric tensors (xx, yy, zz, xy, yz, xz).
@@ -170,7 +172,7 @@ impl VtkWriter {
         }
     }
 
-    fn reinforcement(&self, r: &StepResults, u: &[[f64; 2]], _index: &HashMap<u64, usize>) -> UnstructuredGridPiece {
+    fn reinforcement(&self, r: &StepResults, u: &[[f64; 2]]) -> UnstructuredGridPiece {
         // Only the bars' nodes, renumbered.
         let mut local: HashMap<usize, u64> = HashMap::new();
         let mut order = Vec::new();
