@@ -354,7 +354,7 @@ fn run_case(
     peaks: &mut Vec<crate::output::TargetPeak>,
 ) -> Result<(), crate::Error> {
     let started = std::time::Instant::now();
-    let options = RunOptions { solver: solver_options.clone(), ..RunOptions::for_model(&model, solver) };
+    let options = RunOptions { solver: solver_options.clone(), ..RunOptions::for_model(model, solver) };
     let solver_name = match solver.resolve() {
         Backend::Mumps => format!(
             "mumps ({} ordering{}{})",
@@ -364,7 +364,7 @@ fn run_case(
         ),
         b => b.name().to_string(),
     };
-    let mut writer = ResultWriter::new(&model, &out, &solver_name)?;
+    let mut writer = ResultWriter::new(model, out, &solver_name)?;
     if verbosity != Verbosity::Quiet {
         for note in &model.notes {
             eprintln!("note: {note}");
@@ -383,7 +383,7 @@ fn run_case(
     );
     let result = {
         let mut progress = Progress { writer: &mut writer, bar: bar.clone(), verbosity };
-        analysis::run(&model, &options, &mut progress)
+        analysis::run(model, &options, &mut progress)
     };
     bar.finish_and_clear();
     let seconds = started.elapsed().as_secs_f64();
@@ -392,7 +392,7 @@ fn run_case(
             for w in &stats.warnings {
                 eprintln!("warning: {w}");
             }
-            writer.finish(&model, None, Some(stats), seconds)?;
+            writer.finish(model, None, Some(stats), seconds)?;
             if verbosity != Verbosity::Quiet {
                 for e in &writer.summary.events {
                     println!("{e}");
@@ -412,7 +412,7 @@ fn run_case(
             Ok(())
         }
         Err(e) => {
-            writer.finish(&model, Some(&e), None, seconds)?;
+            writer.finish(model, Some(&e), None, seconds)?;
             eprintln!("the {} completed steps are in {}", writer.summary.steps.len(), out.display());
             *peaks = writer.peak_reactions();
             Err(e)
