@@ -80,7 +80,7 @@ fn paper_block() -> ModelFile {
     let mut edge_sets = BTreeMap::new();
     edge_sets.insert("top".into(), block.row_edges(4));
     let mut soil = BTreeMap::new();
-    soil.insert("soil".into(), SoilMaterial { youngs_modulus: 40.0, poissons_ratio: 0.3, unit_weight: 0.0 });
+    soil.insert("soil".into(), SoilMaterial::linear_elastic(40.0, 0.3, 0.0));
     let mut reinforcement = BTreeMap::new();
     reinforcement.insert(
         "geosynthetic".into(),
@@ -95,6 +95,7 @@ fn paper_block() -> ModelFile {
         bars: Vec::new(),
         node_sets,
         edge_sets,
+        element_sets: BTreeMap::new(),
         supports: vec![support("base", &[Direction::X, Direction::Y]), support("sides", &[Direction::X])],
         interfaces: vec![InterfaceSpec {
             name: "reinforcement".into(),
@@ -110,6 +111,7 @@ fn paper_block() -> ModelFile {
                 load_factors: vec![1.0],
                 loads: vec![LoadSpec::EdgeTraction { name: None, edge_set: "top".into(), pressure: 2.0, shear: 0.0 }],
                 prescribed: Vec::new(),
+                ..Default::default()
             },
             Stage {
                 name: "pull".into(),
@@ -122,6 +124,7 @@ fn paper_block() -> ModelFile {
                     ux: Some(-1.0),
                     uy: None,
                 }],
+                ..Default::default()
             },
         ],
         analysis: AnalysisSettings { reassociation: ReassociationRule::NearestNode, ..AnalysisSettings::default() },

@@ -14,10 +14,9 @@ pub struct Block {
     first_node: u64,
     /// Lattice step: 1 for linear elements, 2 for quadratic (mid-side nodes on the odd lattice).
     step: usize,
-    x0: f64,
-    y0: f64,
-    dx: f64,
-    dy: f64,
+    /// Coordinates of the lattice lines (mid-side lines included for quadratic elements).
+    xs: Vec<f64>,
+    ys: Vec<f64>,
 }
 
 impl Block {
@@ -33,10 +32,51 @@ impl Block {
         first_node: u64,
         first_element: u64,
     ) -> Block {
-        let step = if kind.is_quadratic() { 2 } else { 1 };
         // Positions are computed as i·width/n (one rounding), so that 3·1.0/20 prints as 0.15.
-        let (dx, dy) = (width / (nx * step) as f64, height / (ny * step) as f64);
-        let mut block = Block { nodes: Vec::new(), elements: Vec::new(), nx, ny, first_node, step, x0, y0, dx, dy };
+        let lines = |origin: f64, size: f64, n: usize| -> Vec<f64> {
+            let cells = n * if kind.is_quadratic() { 2 } else { 1 };
+            (0..=cells).map(|k| origin + (k as f64 * size) / cells as f64).collect()
+        };
+        let xs = lines(x0, width, nx);
+        let ys = lines(y0, height, ny);
+        Block::build(kind, xs, ys, material, first_node, first_element)
+    }
+
+    /// A block whose cell boundaries lie at `x_lines` × `y_lines` (increasing; graded meshes).
+    /// Mid-side nodes of quadratic elements sit half-way.
+    pub fn graded(
+        kind: SolidKind,
+        x_lines: &[f64],
+        y_lines: &[f64],
+        material: &str,
+        first_node: u64,
+        first_element: u64,
+    ) -> Block {
+        let lines = |c: &[f64]| -> Vec<f64> {
+            if !kind.is_quadratic() {
+                return c.to_vec();
+            }
+            let mut out = vec![c[0]];
+            for w in c.windows(2) {
+                out.push(0.5 * (w[0] + w[1]));
+                out.push(w[1]);
+            }
+            out
+        };
+        Block::build(kind, lines(x_lines), lines(y_lines), material, first_node, first_element)
+    }
+
+    fn build(
+        kind: SolidKind,
+        xs: Vec<f64>,
+        ys: Vec<f64>,
+        material: &str,
+        first_node: u64,
+        first_element: u64,
+    ) -> Block {
+        let step = if kind.is_quadratic() { 2 } else { 1 };
+        let (nx, ny) = ((xs.len() - 1) / step, (ys.len() - 1) / step);
+        let mut block = Block { nodes: Vec::new(), elements: Vec::new(), nx, ny, first_node, step, xs, ys };
         let (lx, ly) = (nx * step, ny * step);
         for j in 0..=ly {
             for i in 0..=lx {
@@ -80,12 +120,11 @@ impl Block {
     }
 
     fn coordinate(&self, axis: usize, k: usize) -> f64 {
-        let (origin, size, cells) = if axis == 0 {
-            (self.x0, self.dx * (self.nx * self.step) as f64, self.nx * self.step)
+        if axis == 0 {
+            self.xs[k]
         } else {
-            (self.y0, self.dy * (self.ny * self.step) as f64, self.ny * self.step)
-        };
-        origin + (k as f64 * size) / cells as f64
+            self.ys[k]
+        }
     }
 
     fn lattice_id(&self, i: usize, j: usize) -> u64 {
@@ -199,11 +238,7 @@ impl PullOutBox {
         let mut soil = BTreeMap::new();
         soil.insert(
             "soil".into(),
-            SoilMaterial {
-                youngs_modulus: self.youngs_modulus,
-                poissons_ratio: self.poissons_ratio,
-                unit_weight: self.unit_weight,
-            },
+            SoilMaterial::linear_elastic(self.youngs_modulus, self.poissons_ratio, self.unit_weight),
         );
         let mut reinforcement = BTreeMap::new();
         reinforcement.insert(
@@ -224,6 +259,7 @@ impl PullOutBox {
             bars: Vec::new(),
             node_sets,
             edge_sets,
+            element_sets: BTreeMap::new(),
             supports: vec![
                 support("base", &[Direction::X, Direction::Y]),
                 support("front", &[Direction::X]),
@@ -257,6 +293,7 @@ impl PullOutBox {
                         shear: 0.0,
                     }],
                     prescribed: Vec::new(),
+                    ..Default::default()
                 },
                 Stage {
                     name: "pull-out".into(),
@@ -272,6 +309,7 @@ impl PullOutBox {
                             uy: None,
                         })
                         .collect(),
+                    ..Default::default()
                 },
             ],
             analysis: Default::default(),

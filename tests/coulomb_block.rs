@@ -42,7 +42,7 @@ fn block_on_base(d: f64) -> ModelFile {
     let mut edge_sets = BTreeMap::new();
     edge_sets.insert("top".into(), block.row_edges(2));
     let mut soil = BTreeMap::new();
-    soil.insert("soil".into(), SoilMaterial { youngs_modulus: 1.0e4, poissons_ratio: 0.3, unit_weight: 0.0 });
+    soil.insert("soil".into(), SoilMaterial::linear_elastic(1.0e4, 0.3, 0.0));
     let on_block =
         |ux: f64| PrescribedDisplacement { node: None, nodes: None, set: Some("block".into()), ux: Some(ux), uy: None };
     ModelFile {
@@ -54,6 +54,7 @@ fn block_on_base(d: f64) -> ModelFile {
         bars: Vec::new(),
         node_sets,
         edge_sets,
+        element_sets: BTreeMap::new(),
         supports: vec![geoslip::meshgen::support("base", &[Direction::X, Direction::Y])],
         interfaces: vec![InterfaceSpec {
             name: "base".into(),
@@ -69,12 +70,14 @@ fn block_on_base(d: f64) -> ModelFile {
                 load_factors: vec![1.0],
                 loads: vec![LoadSpec::EdgeTraction { name: None, edge_set: "top".into(), pressure: Q, shear: 0.0 }],
                 prescribed: vec![on_block(0.0)],
+                ..Default::default()
             },
             Stage {
                 name: "shear".into(),
                 load_factors: vec![0.25, 0.5, 0.75, 1.0],
                 loads: Vec::new(),
                 prescribed: vec![on_block(d)],
+                ..Default::default()
             },
         ],
         analysis: AnalysisSettings::default(),

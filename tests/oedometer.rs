@@ -43,7 +43,7 @@ fn column(kind: SolidKind, self_weight: bool) -> ModelFile {
     let mut edge_sets = BTreeMap::new();
     edge_sets.insert("top".into(), block.row_edges(4));
     let mut soil = BTreeMap::new();
-    soil.insert("soil".into(), SoilMaterial { youngs_modulus: E, poissons_ratio: NU, unit_weight: GAMMA });
+    soil.insert("soil".into(), SoilMaterial::linear_elastic(E, NU, GAMMA));
     let load = if self_weight {
         LoadSpec::Gravity { factor: 1.0 }
     } else {
@@ -58,9 +58,16 @@ fn column(kind: SolidKind, self_weight: bool) -> ModelFile {
         bars: Vec::new(),
         node_sets,
         edge_sets,
+        element_sets: BTreeMap::new(),
         supports: vec![support("base", &[Direction::X, Direction::Y]), support("sides", &[Direction::X])],
         interfaces: Vec::new(),
-        stages: vec![Stage { name: "load".into(), load_factors: vec![1.0], loads: vec![load], prescribed: Vec::new() }],
+        stages: vec![Stage {
+            name: "load".into(),
+            load_factors: vec![1.0],
+            loads: vec![load],
+            prescribed: Vec::new(),
+            ..Default::default()
+        }],
         analysis: Default::default(),
         mesh: None,
         series: None,

@@ -32,7 +32,7 @@ fn lifted_block() -> ModelFile {
     let mut node_sets = BTreeMap::new();
     node_sets.insert("base".into(), base.clone());
     let mut soil = BTreeMap::new();
-    soil.insert("soil".into(), SoilMaterial { youngs_modulus: 1.0e4, poissons_ratio: 0.3, unit_weight: 20.0 });
+    soil.insert("soil".into(), SoilMaterial::linear_elastic(1.0e4, 0.3, 20.0));
     ModelFile {
         title: "lifted block".into(),
         units: Units { length: LengthUnit::Metre, force: ForceUnit::Kilonewton },
@@ -42,6 +42,7 @@ fn lifted_block() -> ModelFile {
         bars: Vec::new(),
         node_sets,
         edge_sets: BTreeMap::new(),
+        element_sets: BTreeMap::new(),
         supports: vec![geoslip::meshgen::support("base", &[Direction::X, Direction::Y])],
         interfaces: vec![InterfaceSpec {
             name: "base".into(),
@@ -57,6 +58,7 @@ fn lifted_block() -> ModelFile {
                 load_factors: vec![1.0],
                 loads: vec![LoadSpec::Gravity { factor: 1.0 }],
                 prescribed: vec![],
+                ..Default::default()
             },
             Stage {
                 name: "uplift".into(),
@@ -69,6 +71,7 @@ fn lifted_block() -> ModelFile {
                     ux: None,
                     uy: Some(0.02),
                 }],
+                ..Default::default()
             },
         ],
         analysis: AnalysisSettings::default(),

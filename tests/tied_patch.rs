@@ -41,7 +41,7 @@ fn stacked_blocks(kind: SolidKind, nx: usize) -> ModelFile {
     node_sets.insert("top".into(), upper.row_nodes(2));
     node_sets.insert("left_corners".into(), vec![lower.node(0, 0), upper.node(0, 2)]);
     let mut soil = BTreeMap::new();
-    soil.insert("soil".into(), SoilMaterial { youngs_modulus: E, poissons_ratio: NU, unit_weight: 0.0 });
+    soil.insert("soil".into(), SoilMaterial::linear_elastic(E, NU, 0.0));
     let target = |set: &str| (None, None, Some(set.to_string()));
     let (n0, ns0, s0) = target("base");
     let (n1, ns1, s1) = target("left_corners");
@@ -54,6 +54,7 @@ fn stacked_blocks(kind: SolidKind, nx: usize) -> ModelFile {
         bars: Vec::new(),
         node_sets,
         edge_sets: BTreeMap::new(),
+        element_sets: BTreeMap::new(),
         supports: vec![
             Support { node: n0, nodes: ns0, set: s0, fix: vec![Direction::Y] },
             Support { node: n1, nodes: ns1, set: s1, fix: vec![Direction::X] },
@@ -77,6 +78,7 @@ fn stacked_blocks(kind: SolidKind, nx: usize) -> ModelFile {
                 ux: None,
                 uy: Some(-0.01),
             }],
+            ..Default::default()
         }],
         analysis: Default::default(),
         mesh: None,

@@ -19,6 +19,7 @@
 
 pub mod reassociate;
 pub mod results;
+pub mod soil;
 pub mod system;
 
 use crate::dofs::DofMap;
@@ -30,7 +31,7 @@ use crate::model::{Load, Model};
 use results::StepResults;
 use std::collections::HashMap;
 use std::time::Instant;
-use system::{ElementMatrices, InterfaceRows, LinearSystem, SolverStats};
+use system::{ElementMatrices, InterfaceRows, LinearSystem, SoilView, SolverStats};
 
 /// What a run may be asked to do: a backend and the model's `[analysis]` settings
 /// ([`RunOptions::for_model`]).
@@ -140,6 +141,8 @@ pub struct State {
     pub frozen_sigma_n: Option<Vec<f64>>,
     /// Bars (in mesh order) that have ruptured.
     pub ruptured: Vec<bool>,
+    /// The soil: present elements, Gauss-point stresses, pore pressures.
+    pub soil: soil::SoilField,
 }
 
 /// Run every stage of a model.
@@ -168,6 +171,7 @@ pub fn run(model: &Model, options: &RunOptions, sink: &mut dyn StepSink) -> Resu
         }
     }
     let elements = ElementMatrices::compute(model);
+    let setup = soil::SoilSetup::new(model);
     let mut system =
         LinearSystem::new(options.backend, options.analysis.scheme != Scheme::Newton, &options.solver).map_err(
             |source| Error::Solve { file: model.source.clone(), stage: model.stages[0].name.clone(), step: 1, source },
@@ -181,6 +185,7 @@ pub fn run(model: &Model, options: &RunOptions, sink: &mut dyn StepSink) -> Resu
         u_committed: vec![0.0; dof_count],
         frozen_sigma_n: None,
         ruptured: vec![false; model.mesh.bars.len()],
+        soil: soil::initial_field(model),
     };
     let reserve = |interfaces: &mut [Interface]| {
         if options.analysis.reassociation != ReassociationRule::None && options.analysis.reserved_segments > 0 {
@@ -193,14 +198,45 @@ pub fn run(model: &Model, options: &RunOptions, sink: &mut dyn StepSink) -> Resu
     for &(n, d) in &model.supports {
         held[dof(n, d)] = true;
     }
+    // Gravity so far (the sum of the stages' gravity factors) and the weight it put in f_ext.
+    let mut gravity = 0.0;
+    let mut applied_weight = vec![0.0; dof_count];
     for (stage_index, stage) in model.stages.iter().enumerate() {
         for &(n, d, _) in &stage.prescribed {
             held[dof(n, d)] = true;
         }
-        let dofs = DofMap::new(model.mesh.nodes.len(), &held, &state.interfaces);
+        // The soil of this stage: lifts placed, soil removed, a new water table, K0 stresses.
+        let soil_changed =
+            !stage.activate.is_empty() || !stage.deactivate.is_empty() || stage.k0 || stage.water.is_some();
+        soil::deactivate(&mut state.soil, &stage.deactivate);
+        soil::activate(model, &setup, &mut state.soil, &stage.activate, &mut state.u);
+        if soil_changed {
+            let water = stage.water.clone().unwrap_or_else(|| state.soil.water.clone());
+            soil::set_water(model, &setup, &mut state.soil, water);
+        }
+        if stage.k0 {
+            soil::set_k0(model, &setup, &mut state.soil, &state.u);
+        }
+        state.u_committed = state.u.clone();
+        let stage_held = with_absent_nodes(model, &state.soil, &held);
+        let dofs = DofMap::new(model.mesh.nodes.len(), &stage_held, &state.interfaces);
         let mut redundant = mark_redundant_rows(model, &mut state.interfaces, &dofs);
-        let stage_force = external_force(model, &stage.loads);
+        // This stage's additions: its loads, and the change in the soil's weight (gravity switched
+        // on or up, soil placed or removed, soil under a new water table).
+        gravity +=
+            stage.loads.iter().map(|l| if let Load::Gravity { factor } = l { *factor } else { 0.0 }).sum::<f64>();
+        let weight = soil::weight(model, &setup, &state.soil, gravity);
+        let mut stage_force = external_force(model, &stage.loads);
+        for ((f, w), a) in stage_force.iter_mut().zip(&weight).zip(&applied_weight) {
+            *f += w - a;
+        }
+        applied_weight = weight;
         let f_ext_start = state.f_ext.clone();
+        // What the soil's change put out of balance (removed soil, new pore pressures, K0 stresses
+        // off equilibrium) is released over the stage's load factors: f_ext starts at the
+        // internal force of the new configuration and ends at the applied loads.
+        let unbalance =
+            if soil_changed { stage_unbalance(model, &setup, &elements, &dofs, &state) } else { vec![0.0; dof_count] };
         let u_start = state.u.clone();
         state.frozen_sigma_n = options.analysis.freeze_normal_stress.then(|| {
             let rows = InterfaceRows::new(model, &state.interfaces, &dofs);
@@ -215,12 +251,12 @@ pub fn run(model: &Model, options: &RunOptions, sink: &mut dyn StepSink) -> Resu
             let started = std::time::Instant::now();
             let snapshot = state.clone();
             for (k, f) in state.f_ext.iter_mut().enumerate() {
-                *f = f_ext_start[k] + target * stage_force[k];
+                *f = f_ext_start[k] + target * stage_force[k] - (1.0 - target) * unbalance[k];
             }
             for &(n, d, value) in &stage.prescribed {
                 state.u[dof(n, d)] = u_start[dof(n, d)] + target * value;
             }
-            let attempt = equilibrium(model, options, &elements, &mut system, &dofs, &bar_only, &mut state);
+            let attempt = equilibrium(model, options, &elements, &setup, &mut system, &dofs, &bar_only, &mut state);
             let report = match attempt {
                 Ok(report) => report,
                 Err(e) => {
@@ -233,14 +269,16 @@ pub fn run(model: &Model, options: &RunOptions, sink: &mut dyn StepSink) -> Resu
                     return Err(e.at(&model.source, &stage.name, step + 1, cutbacks));
                 }
             };
-            // Commit the increment: shear states, then the re-association for the next one.
+            // Commit the increment: shear states and soil stresses, then the re-association for the
+            // next one.
             commit(&mut state, &report.springs);
+            soil::commit(&mut state.soil, &report.soil);
             step += 1;
             let output_started = Instant::now();
             let rows = InterfaceRows::new(model, &state.interfaces, &dofs);
             let taus: Vec<f64> = report.springs.iter().map(|r| r.tau).collect();
             let sliding: Vec<bool> = report.springs.iter().map(|r| r.sliding).collect();
-            let results = StepResults::compute(model, &elements, &rows, &taus, &sliding, &state, &held);
+            let results = StepResults::compute(model, &elements, &rows, &taus, &sliding, &state, &report.soil, &held);
             let balance = results::reinforcement_balance(model, &results, &state);
             system.stats.output_seconds += output_started.elapsed().as_secs_f64();
             let search_started = Instant::now();
@@ -299,6 +337,51 @@ pub fn run(model: &Model, options: &RunOptions, sink: &mut dyn StepSink) -> Resu
     Ok(system.stats)
 }
 
+/// `held` plus both DOFs of every node whose soil elements are all absent (and that no bar uses).
+fn with_absent_nodes(model: &Model, field: &soil::SoilField, held: &[bool]) -> Vec<bool> {
+    let mut held = held.to_vec();
+    let present = soil::present_nodes(model, field);
+    let mut in_soil = vec![false; present.len()];
+    for e in &model.mesh.solids {
+        for &n in &e.nodes {
+            in_soil[n] = true;
+        }
+    }
+    for b in &model.mesh.bars {
+        for &n in &b.nodes {
+            in_soil[n] = false;
+        }
+    }
+    for n in 0..present.len() {
+        if in_soil[n] && !present[n] {
+            held[2 * n] = true;
+            held[2 * n + 1] = true;
+        }
+    }
+    held
+}
+
+/// The out-of-balance force of the converged state under the stage's new soil configuration, on the
+/// free DOFs: f_ext − f_int − Cᵀλ.
+fn stage_unbalance(
+    model: &Model,
+    setup: &soil::SoilSetup,
+    elements: &ElementMatrices,
+    dofs: &DofMap,
+    state: &State,
+) -> Vec<f64> {
+    let rows = InterfaceRows::new(model, &state.interfaces, dofs);
+    let springs = evaluate_springs(state, &rows);
+    let taus: Vec<f64> = springs.iter().map(|r| r.tau).collect();
+    let trial = soil::evaluate(setup, &state.soil, &state.u, &state.u_committed, soil::Tangent::Elastic);
+    let view = SoilView { field: &state.soil, trial: &trial };
+    let f_int = system::internal_force(elements, view, &rows, &taus, &state.ruptured, &state.u);
+    let f_c = system::constraint_force(&rows, &state.lambda, state.u.len());
+    (0..state.u.len())
+        .map(|d| if dofs.equation[d].is_some() { state.f_ext[d] - f_int[d] - f_c[d] } else { 0.0 })
+        .collect()
+}
+
 fn dof(n: usize, d: Direction) -> usize {
     2 * n + if d == Direction::X { 0 } else { 1 }
 }
@@ -322,7 +405,8 @@ fn commit(state: &mut State, springs: &[SpringResult]) {
     }
 }
 
-/// Consistent nodal forces of a list of loads (full load, factor 1).
+/// Consistent nodal forces of a list of loads (full load, factor 1), but for gravity, whose force
+/// comes from [`soil::weight`].
 pub fn external_force(model: &Model, loads: &[Load]) -> Vec<f64> {
     use crate::element::solid;
     let mesh = &model.mesh;
@@ -333,18 +417,9 @@ pub fn external_force(model: &Model, loads: &[Load]) -> Vec<f64> {
                 f[2 * node] += force[0];
                 f[2 * node + 1] += force[1];
             }
-            Load::Gravity { factor } => {
-                for (s, e) in mesh.solids.iter().enumerate() {
-                    let gamma = model.soil(s).unit_weight * factor;
-                    let coords: Vec<[f64; 2]> = e.nodes.iter().map(|&n| mesh.position(n)).collect();
-                    let fe = solid::body_force(e.kind, &coords, [0.0, -gamma])
-                        .expect("element Jacobians were checked when the model was read");
-                    for (a, &n) in e.nodes.iter().enumerate() {
-                        f[2 * n] += fe[2 * a];
-                        f[2 * n + 1] += fe[2 * a + 1];
-                    }
-                }
-            }
+            // the soil's weight depends on which soil is present and where the water is: see
+            // `soil::weight`
+            Load::Gravity { .. } => {}
             Load::EdgeTraction { sides, pressure, shear } => {
                 for side in sides {
                     let e = &mesh.solids[side.solid];
@@ -524,6 +599,8 @@ struct IncrementReport {
     linear_residuals: Vec<f64>,
     springs: Vec<SpringResult>,
     state_changes: Vec<String>,
+    /// The soil's Gauss-point states at equilibrium.
+    soil: soil::SoilTrial,
 }
 
 /// σn = λ/ℓ of a spring's point (compression positive); a redundant row's force is carried by
@@ -579,10 +656,12 @@ fn evaluate_springs(state: &State, rows: &InterfaceRows) -> Vec<SpringResult> {
 }
 
 /// Iterate one increment to equilibrium.
+#[allow(clippy::too_many_arguments)]
 fn equilibrium(
     model: &Model,
     options: &RunOptions,
     elements: &ElementMatrices,
+    setup: &soil::SoilSetup,
     system: &mut LinearSystem,
     dofs: &DofMap,
     bar_only: &[bool],
@@ -596,6 +675,11 @@ fn equilibrium(
     let mut kept_stiffness: Option<(Vec<bool>, Vec<f64>)> = None;
     let mut matrix_key: Option<u64> = None;
     let mut dependent_retries = 0;
+    let mut soil_tangent = match options.analysis.scheme {
+        Scheme::Newton => soil::Tangent::Consistent,
+        Scheme::NewtonSymmetric => soil::Tangent::Symmetric,
+        Scheme::ConstantStiffness => soil::Tangent::Elastic,
+    };
     for iteration in 1..=options.analysis.max_iterations {
         system.stats.iterations += 1;
         let t = Instant::now();
@@ -605,6 +689,11 @@ fn equilibrium(
         state_changes.extend(hold_free_reinforcement_nodes(model, state, dofs, bar_only));
         let rows = InterfaceRows::new(model, &state.interfaces, dofs);
         let springs = evaluate_springs(state, &rows);
+        // The first iteration of an increment predicts with the elastic soil stiffness: prescribed
+        // displacements strain only the elements next to them at first, and their tangent would
+        // say nothing about the rest.
+        let tangent = if iteration == 1 { soil::Tangent::Elastic } else { soil_tangent };
+        let soil_trial = soil::evaluate(setup, &state.soil, &state.u, &state.u_committed, tangent);
         // Constant stiffness (the paper's Fig. 3): Ks·ℓ as the increment found it, kept while the
         // contact states stay, so the factorisation is reused and each iteration costs one solve.
         // Newton: the law's tangent at the current iterate.
@@ -653,6 +742,7 @@ fn equilibrium(
                     .collect()
             });
         let key = system::matrix_key(
+            SoilView { field: &state.soil, trial: &soil_trial },
             &rows,
             stiffness,
             coupling.as_deref(),
@@ -666,8 +756,20 @@ fn equilibrium(
         // change): no assembly, no factorisation, one solve.
         let t = Instant::now();
         let reuse = matrix_key == Some(key);
-        let IterationSystem { triplets, rhs, scale, active } =
-            iteration_system(elements, &rows, &springs, stiffness, coupling.as_deref(), dofs, state, !reuse);
+        let build = |with_matrix: bool| {
+            iteration_system(
+                elements,
+                &soil_trial,
+                &rows,
+                &springs,
+                stiffness,
+                coupling.as_deref(),
+                dofs,
+                state,
+                with_matrix,
+            )
+        };
+        let IterationSystem { triplets, rhs, scale, active } = build(!reuse);
         system.stats.assembly_seconds += t.elapsed().as_secs_f64();
         let reused = if reuse { system.solve_again(&rhs).ok() } else { None };
         let triplets = match reused {
@@ -675,8 +777,7 @@ fn equilibrium(
             None if reuse => {
                 // the reused factorisation did not give a clean solution: assemble and factorise
                 let t = Instant::now();
-                let again =
-                    iteration_system(elements, &rows, &springs, stiffness, coupling.as_deref(), dofs, state, true);
+                let again = build(true);
                 system.stats.assembly_seconds += t.elapsed().as_secs_f64();
                 again.triplets
             }
@@ -685,6 +786,20 @@ fn equilibrium(
         matrix_key = Some(key);
         let (x, lin_res) = match reused.map_or_else(|| system.solve(dofs.size(), &triplets, &rhs, active), Ok) {
             Ok(v) => v,
+            Err(Failure::Singular { .. }) if soil_trial.tangents.iter().any(|t| t.is_some()) => {
+                // Yielded soil can leave the consistent tangent singular (a local mechanism of
+                // perfectly plastic Gauss points, as at a footing edge) where the structure itself
+                // is not: the rest of the increment iterates on the elastic soil stiffness.
+                soil_tangent = soil::Tangent::Elastic;
+                matrix_key = None;
+                let w = "the consistent tangent of the yielded soil was singular in some increments; they \
+                         continued on the elastic soil stiffness"
+                    .to_string();
+                if !system.stats.warnings.contains(&w) {
+                    system.stats.warnings.push(w);
+                }
+                continue;
+            }
             Err(Failure::Singular { equations }) => {
                 // Normal rows that depend on other rows (after a re-association, two reinforcement
                 // nodes tied to the same pair of soil nodes) are set aside, reported, and the
@@ -719,15 +834,20 @@ fn equilibrium(
             Err(Failure::Other(e)) => return Err(IncrementError::Solve(e)),
         };
         linear_residuals.push(lin_res);
+        let step = if soil_trial.yielding > 0 && tangent != soil::Tangent::Elastic {
+            line_search(elements, setup, dofs, state, &rows, &x, scale, &rhs[..dofs.free_count])
+        } else {
+            1.0
+        };
         let mut correction2 = 0.0f64;
         for (d, eq) in dofs.equation.iter().enumerate() {
             if let Some(e) = eq {
-                state.u[d] += x[*e];
-                correction2 += x[*e] * x[*e];
+                state.u[d] += step * x[*e];
+                correction2 += (step * x[*e]).powi(2);
             }
         }
         for k in 0..dofs.multipliers.len() {
-            state.lambda[k] += scale * x[dofs.multiplier_equation(k)];
+            state.lambda[k] += step * scale * x[dofs.multiplier_equation(k)];
         }
         let t = Instant::now();
         if options.analysis.reassociation != ReassociationRule::None {
@@ -747,7 +867,8 @@ fn equilibrium(
             || correction2.sqrt() <= options.analysis.displacement_tolerance * increment2.sqrt().max(f64::MIN_POSITIVE);
         let t = Instant::now();
         let taus: Vec<f64> = springs.iter().map(|r| r.tau).collect();
-        let (residual, reference) = out_of_balance(elements, &rows, &taus, state, dofs);
+        let soil_trial = soil::evaluate(setup, &state.soil, &state.u, &state.u_committed, soil::Tangent::Elastic);
+        let (residual, reference) = out_of_balance(elements, &soil_trial, &rows, &taus, state, dofs);
         system.stats.residual_seconds += t.elapsed().as_secs_f64();
         if !residual.is_finite() {
             return Err(IncrementError::NotConverged {
@@ -758,7 +879,7 @@ fn equilibrium(
             });
         }
         let gaps = rows.gaps(&state.u);
-        let floor = system::round_off_floor(elements, &state.u);
+        let floor = system::round_off_floor(elements, SoilView { field: &state.soil, trial: &soil_trial }, &state.u);
         if changes.is_empty()
             && residual <= (options.analysis.force_tolerance * reference).max(floor)
             && gaps_closed(&gaps, state, dofs, characteristic)
@@ -770,6 +891,7 @@ fn equilibrium(
                 linear_residuals,
                 springs,
                 state_changes,
+                soil: soil_trial,
             });
         }
         if iteration == options.analysis.max_iterations {
@@ -783,6 +905,46 @@ fn equilibrium(
         }
     }
     Err(IncrementError::NotConverged { iterations: 0, residual: f64::NAN, reference: f64::NAN, unsettled: Vec::new() })
+}
+
+/// A backtracking line search on the Newton correction of yielding soil: the step is halved (at
+/// most five times) while the out-of-balance force on the free DOFs would grow. Perfectly plastic
+/// Gauss points make the consistent tangent nearly singular where a mechanism is forming, and a
+/// full step can then overshoot far (Crisfield, Non-linear Finite Element Analysis of Solids and
+/// Structures, vol. 1 (1991) §9.3).
+#[allow(clippy::too_many_arguments)]
+fn line_search(
+    elements: &ElementMatrices,
+    setup: &soil::SoilSetup,
+    dofs: &DofMap,
+    state: &State,
+    rows: &InterfaceRows,
+    x: &[f64],
+    scale: f64,
+    before: &[f64],
+) -> f64 {
+    let r0: f64 = before.iter().map(|v| v * v).sum::<f64>().sqrt();
+    let mut trial = state.clone();
+    let mut step = 1.0;
+    for _ in 0..6 {
+        for (d, eq) in dofs.equation.iter().enumerate() {
+            if let Some(e) = eq {
+                trial.u[d] = state.u[d] + step * x[*e];
+            }
+        }
+        for k in 0..dofs.multipliers.len() {
+            trial.lambda[k] = state.lambda[k] + step * scale * x[dofs.multiplier_equation(k)];
+        }
+        let springs = evaluate_springs(&trial, rows);
+        let taus: Vec<f64> = springs.iter().map(|r| r.tau).collect();
+        let soil_trial = soil::evaluate(setup, &trial.soil, &trial.u, &trial.u_committed, soil::Tangent::Elastic);
+        let (r, _) = out_of_balance(elements, &soil_trial, rows, &taus, &trial, dofs);
+        if r <= r0 || step < 0.05 {
+            break;
+        }
+        step *= 0.5;
+    }
+    step
 }
 
 fn multiplier_name(model: &Model, interfaces: &[Interface], dofs: &DofMap, k: usize) -> String {
@@ -928,6 +1090,7 @@ pub struct IterationSystem {
 #[allow(clippy::too_many_arguments)]
 fn iteration_system(
     elements: &ElementMatrices,
+    soil_trial: &soil::SoilTrial,
     rows: &InterfaceRows,
     springs: &[SpringResult],
     spring_stiffness: &[f64],
@@ -939,7 +1102,8 @@ fn iteration_system(
     let n_dof = state.u.len();
     let gaps = rows.gaps(&state.u);
     let taus: Vec<f64> = springs.iter().map(|r| r.tau).collect();
-    let f_int = system::internal_force(elements, rows, &taus, &state.ruptured, &state.u);
+    let view = SoilView { field: &state.soil, trial: soil_trial };
+    let f_int = system::internal_force(elements, view, rows, &taus, &state.ruptured, &state.u);
     let f_c = system::constraint_force(rows, &state.lambda, n_dof);
     let mut rhs = vec![0.0; dofs.size()];
     for (d, eq) in dofs.equation.iter().enumerate() {
@@ -969,6 +1133,7 @@ fn iteration_system(
     let triplets = if with_matrix {
         system::assemble(
             elements,
+            view,
             rows,
             spring_stiffness,
             spring_coupling,
@@ -1013,27 +1178,31 @@ pub fn first_system(model: &Model) -> (usize, IterationSystem) {
         u_committed: vec![0.0; dof_count],
         frozen_sigma_n: None,
         ruptured: vec![false; model.mesh.bars.len()],
+        soil: soil::initial_field(model),
     };
     let rows = InterfaceRows::new(model, &state.interfaces, &dofs);
     let springs = evaluate_springs(&state, &rows);
+    let soil_trial = soil::SoilTrial::default();
     let stiffness: Vec<f64> = rows
         .springs
         .iter()
         .map(|s| state.interfaces[s.interface].law.shear_stiffness().unwrap_or(0.0) * s.tributary)
         .collect();
-    (dofs.size(), iteration_system(&elements, &rows, &springs, &stiffness, None, &dofs, &state, true))
+    (dofs.size(), iteration_system(&elements, &soil_trial, &rows, &springs, &stiffness, None, &dofs, &state, true))
 }
 
 /// ‖out-of-balance force on the free DOFs‖ and the reference force (applied loads and reactions).
 fn out_of_balance(
     elements: &ElementMatrices,
+    soil_trial: &soil::SoilTrial,
     rows: &InterfaceRows,
     taus: &[f64],
     state: &State,
     dofs: &DofMap,
 ) -> (f64, f64) {
     let n_dof = state.u.len();
-    let f_int = system::internal_force(elements, rows, taus, &state.ruptured, &state.u);
+    let view = SoilView { field: &state.soil, trial: soil_trial };
+    let f_int = system::internal_force(elements, view, rows, taus, &state.ruptured, &state.u);
     let f_c = system::constraint_force(rows, &state.lambda, n_dof);
     let mut r2 = 0.0;
     let mut reference2 = 0.0;

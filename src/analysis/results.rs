@@ -3,7 +3,6 @@
 
 use super::system::{self, ElementMatrices, InterfaceRows};
 use super::State;
-use crate::element::solid;
 use crate::interface::ShearLaw;
 use crate::model::Model;
 
@@ -57,8 +56,13 @@ pub struct ElementStress {
     pub x: [f64; 2],
     /// σxx, σyy, τxy, σzz; tension positive.
     pub stress: [f64; 4],
-    /// εxx, εyy, γxy; extension positive.
+    /// εxx, εyy, γxy since the element was placed; extension positive.
     pub strain: [f64; 3],
+    /// Pore pressure, compression positive (the stresses above are effective: σ = σ′ − p).
+    pub pore_pressure: f64,
+    pub yield_state: crate::element::mohr_coulomb::YieldState,
+    /// Accumulated equivalent plastic strain.
+    pub plastic_strain: f64,
 }
 
 #[derive(Debug, Clone)]
@@ -75,6 +79,7 @@ pub struct StepResults {
 }
 
 impl StepResults {
+    #[allow(clippy::too_many_arguments)]
     pub fn compute(
         model: &Model,
         elements: &ElementMatrices,
@@ -82,11 +87,13 @@ impl StepResults {
         taus: &[f64],
         sliding: &[bool],
         state: &State,
+        soil: &super::soil::SoilTrial,
         held: &[bool],
     ) -> Self {
         let mesh = &model.mesh;
         let n_dof = state.u.len();
-        let f_int = system::internal_force(elements, rows, taus, &state.ruptured, &state.u);
+        let view = system::SoilView { field: &state.soil, trial: soil };
+        let f_int = system::internal_force(elements, view, rows, taus, &state.ruptured, &state.u);
         let f_c = system::constraint_force(rows, &state.lambda, n_dof);
         let reaction_vector: Vec<f64> =
             (0..n_dof).map(|d| if held[d] { f_int[d] + f_c[d] - state.f_ext[d] } else { 0.0 }).collect();
@@ -179,24 +186,7 @@ impl StepResults {
             }
         }
 
-        let mut stresses = Vec::new();
-        for (s, e) in mesh.solids.iter().enumerate() {
-            let coords: Vec<[f64; 2]> = e.nodes.iter().map(|&n| mesh.position(n)).collect();
-            let ue: Vec<f64> = e.nodes.iter().flat_map(|&n| [state.u[2 * n], state.u[2 * n + 1]]).collect();
-            let m = model.soil(s);
-            let material = solid::PlaneStrain { youngs_modulus: m.youngs_modulus, poissons_ratio: m.poissons_ratio };
-            if let Ok(points) = solid::stresses(e.kind, &coords, &material, &ue) {
-                for (p, gs) in points.into_iter().enumerate() {
-                    stresses.push(ElementStress {
-                        element: e.id,
-                        point: p + 1,
-                        x: gs.x,
-                        stress: gs.stress,
-                        strain: gs.strain,
-                    });
-                }
-            }
-        }
+        let stresses = super::soil::gauss_results(model, &state.soil, &state.u);
         StepResults {
             displacements,
             reactions,

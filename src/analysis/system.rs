@@ -11,6 +11,13 @@ use crate::model::Model;
 use nalgebra::DMatrix;
 use std::time::Instant;
 
+/// The soil's state and its current trial, as the assembly and the internal force see them.
+#[derive(Clone, Copy)]
+pub struct SoilView<'a> {
+    pub field: &'a super::soil::SoilField,
+    pub trial: &'a super::soil::SoilTrial,
+}
+
 /// Element stiffness matrices with their global DOF lists (2·node + d).
 pub struct ElementMatrices {
     pub blocks: Vec<(Vec<usize>, DMatrix<f64>)>,
@@ -26,7 +33,7 @@ pub struct ElementMatrices {
 fn par_block_sum(
     blocks: &[(Vec<usize>, DMatrix<f64>)],
     n: usize,
-    each: impl Fn(&[usize], &DMatrix<f64>, &mut [f64]) + Sync,
+    each: impl Fn(usize, &[usize], &DMatrix<f64>, &mut [f64]) + Sync,
 ) -> Vec<f64> {
     use rayon::prelude::*;
     const RUNS: usize = 4;
@@ -34,10 +41,11 @@ fn par_block_sum(
     let run = if blocks.len() < SEQUENTIAL_BELOW { blocks.len().max(1) } else { blocks.len().div_ceil(RUNS) };
     let parts: Vec<Vec<f64>> = blocks
         .par_chunks(run)
-        .map(|chunk| {
+        .enumerate()
+        .map(|(c, chunk)| {
             let mut f = vec![0.0; n];
-            for (dl, k) in chunk {
-                each(dl, k, &mut f);
+            for (i, (dl, k)) in chunk.iter().enumerate() {
+                each(c * run + i, dl, k, &mut f);
             }
             f
         })
@@ -102,7 +110,7 @@ impl ElementMatrices {
                 let material =
                     solid::PlaneStrain { youngs_modulus: m.youngs_modulus, poissons_ratio: m.poissons_ratio };
                 // Validation has checked every Jacobian; a failure here would be a bug, not bad input.
-                let k = solid::stiffness(e.kind, &coords, &material)
+                let k = solid::stiffness(e.kind, &coords, &material, model.integration())
                     .expect("element Jacobians were checked when the model was read");
                 (dofs_of(&e.nodes), k)
             })
@@ -262,6 +270,7 @@ pub fn multiplier_is_active(interfaces: &[Interface], dofs: &DofMap, k: usize) -
 #[allow(clippy::too_many_arguments)]
 pub fn assemble(
     elements: &ElementMatrices,
+    soil: SoilView<'_>,
     rows: &InterfaceRows,
     spring_stiffness: &[f64],
     spring_coupling: Option<&[f64]>,
@@ -272,9 +281,18 @@ pub fn assemble(
 ) -> Triplets {
     let mut t = Triplets::default();
     let eq = |d: usize| dofs.equation[d];
+    let first_bar = elements.bars.first().map_or(usize::MAX, |bar| bar.block);
     for (b, (dl, k)) in elements.blocks.iter().enumerate() {
+        // absent soil is left out; a yielding element gives its tangent
+        let k = if b < first_bar {
+            if !soil.field.elements[b].active {
+                continue;
+            }
+            soil.trial.tangents.get(b).and_then(|t| t.as_ref()).unwrap_or(k)
+        } else {
+            k
+        };
         // a ruptured bar keeps its place in the pattern with no stiffness
-        let first_bar = elements.bars.first().map_or(usize::MAX, |bar| bar.block);
         let factor = if b >= first_bar && ruptured.get(b - first_bar).copied().unwrap_or(false) { 0.0 } else { 1.0 };
         for (a, &da) in dl.iter().enumerate() {
             let Some(ia) = eq(da) else { continue };
@@ -330,6 +348,7 @@ pub fn assemble(
 /// factorisation.
 #[allow(clippy::too_many_arguments)]
 pub fn matrix_key(
+    soil: SoilView<'_>,
     rows: &InterfaceRows,
     spring_stiffness: &[f64],
     spring_coupling: Option<&[f64]>,
@@ -357,6 +376,14 @@ pub fn matrix_key(
         k.to_bits().hash(&mut h);
     }
     ruptured.hash(&mut h);
+    for (state, tangent) in soil.field.elements.iter().zip(&soil.trial.tangents) {
+        state.active.hash(&mut h);
+        if let Some(k) = tangent {
+            for v in k.iter() {
+                v.to_bits().hash(&mut h);
+            }
+        }
+    }
     for k in 0..dofs.multipliers.len() {
         multiplier_is_active(interfaces, dofs, k).hash(&mut h);
     }
@@ -368,19 +395,36 @@ pub fn matrix_key(
 /// multipliers' Cᵀλ apart). `taus` holds each spring's shear stress.
 pub fn internal_force(
     elements: &ElementMatrices,
+    soil: SoilView<'_>,
     rows: &InterfaceRows,
     taus: &[f64],
     ruptured: &[bool],
     u: &[f64],
 ) -> Vec<f64> {
     let first_bar = elements.bars.first().map(|b| b.block).unwrap_or(elements.blocks.len());
-    let mut f = par_block_sum(&elements.blocks[..first_bar], u.len(), |dl, k, f| {
-        for (a, &da) in dl.iter().enumerate() {
-            let mut s = 0.0;
-            for (b, &db) in dl.iter().enumerate() {
-                s += k[(a, b)] * u[db];
+    let mut f = par_block_sum(&elements.blocks[..first_bar], u.len(), |s, dl, k, f| {
+        let state = &soil.field.elements[s];
+        if !state.active {
+            return;
+        }
+        if state.placed.is_none() && state.reference_force.is_none() && state.pore_force.is_none() {
+            // the common case (elastic soil present from the start): K_e·u_e with no copies
+            if !matches!(soil.trial.forces.get(s), Some(Some(_))) {
+                for (a, &da) in dl.iter().enumerate() {
+                    let mut sum = 0.0;
+                    for (b, &db) in dl.iter().enumerate() {
+                        sum += k[(a, b)] * u[db];
+                    }
+                    f[da] += sum;
+                }
+                return;
             }
-            f[da] += s;
+        }
+        let u_e: Vec<f64> = dl.iter().map(|&d| u[d]).collect();
+        let mut fe = vec![0.0; dl.len()];
+        super::soil::element_force(soil.field, soil.trial, s, k, &u_e, &mut fe);
+        for (a, &da) in dl.iter().enumerate() {
+            f[da] += fe[a];
         }
     });
     for (i, bar) in elements.bars.iter().enumerate() {
@@ -403,8 +447,26 @@ pub fn internal_force(
 /// The round-off floor of the out-of-balance force: ‖Σ_e |K_e·u_e|‖ (per DOF, the sum of the
 /// magnitudes of the element forces that cancel there) times a few ε. A residual below it cannot be
 /// reduced by iterating.
-pub fn round_off_floor(elements: &ElementMatrices, u: &[f64]) -> f64 {
-    let f = par_block_sum(&elements.blocks, u.len(), |dl, k, f| {
+pub fn round_off_floor(elements: &ElementMatrices, soil: SoilView<'_>, u: &[f64]) -> f64 {
+    let first_bar = elements.bars.first().map(|b| b.block).unwrap_or(elements.blocks.len());
+    let f = par_block_sum(&elements.blocks, u.len(), |s, dl, k, f| {
+        if s < first_bar {
+            let state = &soil.field.elements[s];
+            if !state.active {
+                return;
+            }
+            // the stress-carried forces: reference, Mohr–Coulomb and pore forces
+            let forces = [
+                state.reference_force.as_ref(),
+                state.pore_force.as_ref(),
+                soil.trial.forces.get(s).and_then(|f| f.as_ref()),
+            ];
+            for extra in forces.into_iter().flatten() {
+                for (a, &da) in dl.iter().enumerate() {
+                    f[da] += extra[a].abs();
+                }
+            }
+        }
         for (a, &da) in dl.iter().enumerate() {
             for (b, &db) in dl.iter().enumerate() {
                 f[da] += (k[(a, b)] * u[db]).abs();

@@ -1,4 +1,5 @@
 //! Element formulations: plane-strain soil solids and reinforcement bars.
 
 pub mod bar;
+pub mod mohr_coulomb;
 pub mod solid;

@@ -93,8 +93,19 @@ pub fn shape(kind: SolidKind, xi: f64, eta: f64) -> (Vec<f64>, Vec<[f64; 2]>) {
     }
 }
 
+/// The Gauss rule of an element: full (exact for undistorted elements) or, for quad8, reduced to
+/// 2×2 points (Zienkiewicz & Taylor vol. 1 §10.4: the usual rule for nearly incompressible plastic
+/// flow; its single spurious mode does not propagate through a mesh).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Integration {
+    #[default]
+    Full,
+    Reduced,
+}
+
 /// Gauss points `(ξ, η, weight)` in the element's natural domain.
-pub fn gauss_points(kind: SolidKind) -> Vec<(f64, f64, f64)> {
+pub fn gauss_points(kind: SolidKind, rule: Integration) -> Vec<(f64, f64, f64)> {
+    let kind = if kind == SolidKind::Quad8 && rule == Integration::Reduced { SolidKind::Quad4 } else { kind };
     match kind {
         SolidKind::Tri3 => vec![(1.0 / 3.0, 1.0 / 3.0, 0.5)],
         SolidKind::Tri6 => {
@@ -138,7 +149,7 @@ pub struct MappedPoint {
 /// # Errors
 /// [`BadJacobian`] when det J ≤ 0 at any Gauss point (or at the corners, for quadrilaterals, where a
 /// bow-tie first shows).
-pub fn mapped_points(kind: SolidKind, coords: &[[f64; 2]]) -> Result<Vec<MappedPoint>, BadJacobian> {
+pub fn mapped_points(kind: SolidKind, coords: &[[f64; 2]], rule: Integration) -> Result<Vec<MappedPoint>, BadJacobian> {
     let size = coords.iter().fold(0.0f64, |m, c| m.max(c[0].abs()).max(c[1].abs())).max(1e-300);
     let mut points = Vec::new();
     let corners: &[(f64, f64)] = match kind {
@@ -153,7 +164,7 @@ pub fn mapped_points(kind: SolidKind, coords: &[[f64; 2]]) -> Result<Vec<MappedP
             return Err(BadJacobian { det });
         }
     }
-    for (xi, eta, w) in gauss_points(kind) {
+    for (xi, eta, w) in gauss_points(kind, rule) {
         let (n, dn) = shape(kind, xi, eta);
         let j = jacobian(&dn, coords);
         let det = j[0][0] * j[1][1] - j[0][1] * j[1][0];
@@ -186,7 +197,7 @@ fn jacobian(dn: &[[f64; 2]], coords: &[[f64; 2]]) -> [[f64; 2]; 2] {
 }
 
 /// Strain-displacement matrix B (3 × 2n) at one point.
-fn b_matrix(dn_dx: &[[f64; 2]]) -> DMatrix<f64> {
+pub fn b_matrix(dn_dx: &[[f64; 2]]) -> DMatrix<f64> {
     let n = dn_dx.len();
     let mut b = DMatrix::zeros(3, 2 * n);
     for (i, d) in dn_dx.iter().enumerate() {
@@ -202,11 +213,16 @@ fn b_matrix(dn_dx: &[[f64; 2]]) -> DMatrix<f64> {
 ///
 /// # Errors
 /// [`BadJacobian`] for a degenerate or clockwise element.
-pub fn stiffness(kind: SolidKind, coords: &[[f64; 2]], material: &PlaneStrain) -> Result<DMatrix<f64>, BadJacobian> {
+pub fn stiffness(
+    kind: SolidKind,
+    coords: &[[f64; 2]],
+    material: &PlaneStrain,
+    rule: Integration,
+) -> Result<DMatrix<f64>, BadJacobian> {
     let d = material.d_matrix();
     let d = DMatrix::from_fn(3, 3, |i, j| d[(i, j)]);
     let mut k = DMatrix::zeros(2 * coords.len(), 2 * coords.len());
-    for p in mapped_points(kind, coords)? {
+    for p in mapped_points(kind, coords, rule)? {
         let b = b_matrix(&p.dn_dx);
         k += b.transpose() * &d * &b * p.weight;
     }
@@ -217,9 +233,14 @@ pub fn stiffness(kind: SolidKind, coords: &[[f64; 2]], material: &PlaneStrain) -
 ///
 /// # Errors
 /// [`BadJacobian`] for a degenerate or clockwise element.
-pub fn body_force(kind: SolidKind, coords: &[[f64; 2]], b: [f64; 2]) -> Result<DVector<f64>, BadJacobian> {
+pub fn body_force(
+    kind: SolidKind,
+    coords: &[[f64; 2]],
+    b: [f64; 2],
+    rule: Integration,
+) -> Result<DVector<f64>, BadJacobian> {
     let mut f = DVector::zeros(2 * coords.len());
-    for p in mapped_points(kind, coords)? {
+    for p in mapped_points(kind, coords, rule)? {
         for (i, ni) in p.n.iter().enumerate() {
             f[2 * i] += ni * b[0] * p.weight;
             f[2 * i + 1] += ni * b[1] * p.weight;
@@ -247,11 +268,12 @@ pub fn stresses(
     coords: &[[f64; 2]],
     material: &PlaneStrain,
     u_e: &[f64],
+    rule: Integration,
 ) -> Result<Vec<GaussStress>, BadJacobian> {
     let d = material.d_matrix();
     let u = DVector::from_column_slice(u_e);
     let mut out = Vec::new();
-    for p in mapped_points(kind, coords)? {
+    for p in mapped_points(kind, coords, rule)? {
         let eps = b_matrix(&p.dn_dx) * &u;
         let s = d * nalgebra::Vector3::new(eps[0], eps[1], eps[2]);
         out.push(GaussStress {
@@ -355,7 +377,7 @@ mod tests {
         let mut k = DMatrix::zeros(n, n);
         for c in cells {
             let coords: Vec<_> = c.iter().map(|&i| x[i]).collect();
-            let ke = stiffness(kind, &coords, &MATERIAL).expect("patch elements are valid");
+            let ke = stiffness(kind, &coords, &MATERIAL, Integration::Full).expect("patch elements are valid");
             for (a, &ia) in c.iter().enumerate() {
                 for (b, &ib) in c.iter().enumerate() {
                     for p in 0..2 {
@@ -419,7 +441,7 @@ mod tests {
         for c in &cells {
             let coords: Vec<_> = c.iter().map(|&i| x[i]).collect();
             let ue: Vec<f64> = c.iter().flat_map(|&i| [u[2 * i], u[2 * i + 1]]).collect();
-            for gs in stresses(kind, &coords, &MATERIAL, &ue).unwrap() {
+            for gs in stresses(kind, &coords, &MATERIAL, &ue, Integration::Full).unwrap() {
                 for k in 0..3 {
                     assert!((gs.stress[k] - exact[k]).abs() < 1e-9 * exact.amax(), "{kind:?}: stress {k}");
                 }
@@ -463,7 +485,7 @@ mod tests {
     #[test]
     fn clockwise_element_is_rejected() {
         let coords = [[0.0, 0.0], [0.0, 1.0], [1.0, 0.0]];
-        assert!(stiffness(SolidKind::Tri3, &coords, &MATERIAL).is_err());
+        assert!(stiffness(SolidKind::Tri3, &coords, &MATERIAL, Integration::Full).is_err());
     }
 
     #[test]

@@ -39,6 +39,10 @@ pub struct ModelFile {
     /// Named edge sets: each edge is the node list of one element side, `[a, b]` or `[a, b, mid]`.
     #[serde(default)]
     pub edge_sets: BTreeMap<String, Vec<Vec<u64>>>,
+    /// Named element sets (soil element ids), for staged construction. Every physical surface of a
+    /// Gmsh mesh is an element set of the same name.
+    #[serde(default)]
+    pub element_sets: BTreeMap<String, Vec<u64>>,
     /// Permanent zero-displacement supports.
     #[serde(default)]
     pub supports: Vec<Support>,
@@ -107,6 +111,9 @@ pub struct AnalysisSettings {
     /// Master segments reserved on either side of each interface point in the sparsity pattern, so
     /// that sliding within them needs no new symbolic analysis (0: none).
     pub reserved_segments: usize,
+    /// Integrate quad8 elements with 2×2 Gauss points instead of 3×3 (the usual choice for collapse
+    /// loads of nearly incompressible plastic flow, e.g. undrained bearing capacity).
+    pub reduced_integration: bool,
 }
 
 impl Default for AnalysisSettings {
@@ -120,6 +127,7 @@ impl Default for AnalysisSettings {
             max_cutbacks: 8,
             freeze_normal_stress: false,
             reserved_segments: 2,
+            reduced_integration: false,
         }
     }
 }
@@ -182,17 +190,80 @@ pub struct Materials {
     pub reinforcement: BTreeMap<String, ReinforcementMaterial>,
 }
 
-/// Plane-strain linear-elastic soil.
+/// Plane-strain soil: linear elastic, or elastic–perfectly plastic Mohr–Coulomb with a tension
+/// cut-off. Stresses are effective stresses; pore pressures come from a stage's `water`.
 #[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SoilMaterial {
+    /// `linear-elastic` (default) or `mohr-coulomb`.
+    #[serde(default)]
+    pub model: SoilModel,
     /// Young's modulus E [stress].
     pub youngs_modulus: f64,
     /// Poisson's ratio ν, 0 ≤ ν < 0.5.
     pub poissons_ratio: f64,
-    /// Unit weight γ [force/length³], used by `gravity` loads.
+    /// Unit weight γ [force/length³] above the water table, used by `gravity` loads.
     #[serde(default)]
     pub unit_weight: f64,
+    /// Unit weight below the water table [force/length³]; default `unit_weight`.
+    #[serde(default)]
+    pub saturated_unit_weight: Option<f64>,
+    /// Mohr–Coulomb: effective cohesion c′ [stress] (the undrained strength c_u with φ = 0).
+    #[serde(default)]
+    pub cohesion: f64,
+    /// Mohr–Coulomb: effective friction angle φ′ [degrees].
+    #[serde(default)]
+    pub friction_angle: f64,
+    /// Mohr–Coulomb: dilatancy angle ψ [degrees], 0 ≤ ψ ≤ φ (ψ < φ: non-associated flow).
+    #[serde(default)]
+    pub dilatancy_angle: f64,
+    /// Mohr–Coulomb: tension cut-off σt [stress], the largest principal stress allowed. Default and
+    /// upper bound c·cot φ (no cut-off below the apex); with φ = 0 the default is no cut-off.
+    #[serde(default)]
+    pub tensile_strength: Option<f64>,
+    /// Earth pressure coefficient at rest for the `k0` initial stresses: σ′h = K0·σ′v. Default
+    /// 1 − sin φ (Jáky) for Mohr–Coulomb soil, ν/(1 − ν) for linear-elastic soil.
+    #[serde(default)]
+    pub k0: Option<f64>,
+}
+
+impl SoilMaterial {
+    /// A linear-elastic soil with E, ν and γ.
+    pub fn linear_elastic(youngs_modulus: f64, poissons_ratio: f64, unit_weight: f64) -> SoilMaterial {
+        SoilMaterial {
+            model: SoilModel::LinearElastic,
+            youngs_modulus,
+            poissons_ratio,
+            unit_weight,
+            saturated_unit_weight: None,
+            cohesion: 0.0,
+            friction_angle: 0.0,
+            dilatancy_angle: 0.0,
+            tensile_strength: None,
+            k0: None,
+        }
+    }
+
+    /// K0 for the `k0` initial stresses (the default when the file gives none).
+    pub fn k0(&self) -> f64 {
+        self.k0.unwrap_or(match self.model {
+            SoilModel::MohrCoulomb => 1.0 - self.friction_angle.to_radians().sin(),
+            SoilModel::LinearElastic => self.poissons_ratio / (1.0 - self.poissons_ratio),
+        })
+    }
+
+    /// γ below the water table.
+    pub fn saturated_weight(&self) -> f64 {
+        self.saturated_unit_weight.unwrap_or(self.unit_weight)
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "kebab-case")]
+pub enum SoilModel {
+    #[default]
+    LinearElastic,
+    MohrCoulomb,
 }
 
 /// A reinforcement, per metre width out of plane.
@@ -371,7 +442,7 @@ pub enum ShearLawSpec {
 /// One stage of the loading history. Loads and prescribed displacements listed here are added to
 /// those of earlier stages and ramped in by `load_factors` (cumulative fractions of this stage's
 /// additions, ending at 1).
-#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
+#[derive(Debug, Clone, Default, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Stage {
     pub name: String,
@@ -383,6 +454,49 @@ pub struct Stage {
     /// Displacements added in this stage; the DOFs stay held at the reached value afterwards.
     #[serde(default)]
     pub prescribed: Vec<PrescribedDisplacement>,
+    /// Element sets placed in this stage (fill lifts). An element set named here is absent before
+    /// this stage; it is placed stress-free on the deformed ground, and its weight is applied over
+    /// this stage's load factors when gravity is on.
+    #[serde(default)]
+    pub activate: Vec<String>,
+    /// Element sets removed in this stage (excavation). The forces they exerted on the rest are
+    /// released over this stage's load factors.
+    #[serde(default)]
+    pub deactivate: Vec<String>,
+    /// `k0`: at the start of this stage, set the stresses of the soil present from the weight of
+    /// the soil column above each Gauss point (σ′v = ∫γ dz − p, σ′h = K0·σ′v, no shear). Use with a
+    /// `gravity` load in the same stage; it is exact for horizontal ground and layers.
+    #[serde(default)]
+    pub initial_stress: Option<InitialStress>,
+    /// The water table from this stage on: hydrostatic pore pressure below it. Soil strength and
+    /// interface strength use effective stress.
+    #[serde(default)]
+    pub water: Option<WaterTable>,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "kebab-case")]
+pub enum InitialStress {
+    K0,
+}
+
+/// A phreatic line: give `level` (horizontal) or `line` (points in increasing x; constant beyond
+/// its ends), or `none = true` to remove the water.
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct WaterTable {
+    /// Elevation y of a horizontal water table [length].
+    #[serde(default)]
+    pub level: Option<f64>,
+    /// The phreatic line as `[x, y]` points, x increasing [length].
+    #[serde(default)]
+    pub line: Option<Vec<[f64; 2]>>,
+    /// No water from this stage on.
+    #[serde(default)]
+    pub none: bool,
+    /// γw [force/length³]; default 9.81 kN/m³ in the file's units.
+    #[serde(default)]
+    pub unit_weight: Option<f64>,
 }
 
 fn default_load_factors() -> Vec<f64> {

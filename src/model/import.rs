@@ -90,6 +90,12 @@ pub(super) fn import(source: &Path, file: &mut ModelFile, p: &mut Problems) -> O
                 continue;
             }
         };
+        // every physical surface is an element set too (for staged construction)
+        for &g in &e.groups {
+            if mesh.groups[g].dim == 2 {
+                file.element_sets.entry(mesh.groups[g].name.clone()).or_default().push(e.tag);
+            }
+        }
         let materials: Vec<&str> = e.groups.iter().filter_map(|g| material_of.get(g).copied()).collect();
         let material = match materials.as_slice() {
             [m] => m.to_string(),

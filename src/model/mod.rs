@@ -23,6 +23,8 @@ pub struct Model {
     pub soils: Vec<(String, SoilMaterial)>,
     pub reinforcements: Vec<(String, ReinforcementMaterial)>,
     pub node_sets: BTreeMap<String, Vec<NodeIndex>>,
+    /// Named element sets: indices into `mesh.solids`.
+    pub element_sets: BTreeMap<String, Vec<usize>>,
     /// Permanent zero-displacement supports.
     pub supports: Vec<(NodeIndex, Direction)>,
     pub interfaces: Vec<Interface>,
@@ -60,7 +62,7 @@ pub enum Load {
     Gravity { factor: f64 },
 }
 
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Default)]
 pub struct StagePlan {
     pub name: String,
     /// Cumulative fractions of this stage's additions, increasing, ending at 1.
@@ -68,6 +70,45 @@ pub struct StagePlan {
     pub loads: Vec<Load>,
     /// (node, direction, displacement added over this stage).
     pub prescribed: Vec<(NodeIndex, Direction, f64)>,
+    /// Soil elements (indices into `mesh.solids`) placed in this stage.
+    pub activate: Vec<usize>,
+    /// Soil elements removed in this stage.
+    pub deactivate: Vec<usize>,
+    /// Set the K0 initial stresses at the start of this stage.
+    pub k0: bool,
+    /// A new water table from this stage on (`Some(None)`: no water).
+    pub water: Option<Option<WaterTable>>,
+}
+
+/// A phreatic line and the unit weight of water: hydrostatic pore pressure p = γw·(h(x) − y) below
+/// it, zero above.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WaterTable {
+    /// `[x, y]` points with x increasing (one point: a horizontal table).
+    pub line: Vec<[f64; 2]>,
+    pub unit_weight: f64,
+}
+
+impl WaterTable {
+    /// Elevation of the phreatic line at `x` (constant beyond its ends).
+    pub fn level_at(&self, x: f64) -> f64 {
+        let l = &self.line;
+        if x <= l[0][0] {
+            return l[0][1];
+        }
+        for w in l.windows(2) {
+            if x <= w[1][0] {
+                let t = (x - w[0][0]) / (w[1][0] - w[0][0]);
+                return w[0][1] + t * (w[1][1] - w[0][1]);
+            }
+        }
+        l[l.len() - 1][1]
+    }
+
+    /// Pore pressure at (x, y), compression positive.
+    pub fn pressure(&self, p: [f64; 2]) -> f64 {
+        (self.unit_weight * (self.level_at(p[0]) - p[1])).max(0.0)
+    }
 }
 
 impl Model {
@@ -182,6 +223,61 @@ impl Model {
 
     pub fn soil(&self, solid: usize) -> &SoilMaterial {
         &self.soils[self.mesh.solids[solid].material].1
+    }
+
+    /// The Mohr–Coulomb law of a soil element, or `None` when its soil is linear elastic.
+    pub fn strength(&self, solid: usize) -> Option<crate::element::mohr_coulomb::MohrCoulomb> {
+        let m = self.soil(solid);
+        (m.model == file::SoilModel::MohrCoulomb).then(|| {
+            let phi = m.friction_angle.to_radians();
+            let apex = if phi > 0.0 { m.cohesion / phi.tan() } else { f64::INFINITY };
+            crate::element::mohr_coulomb::MohrCoulomb {
+                cohesion: m.cohesion,
+                friction_angle: phi,
+                dilatancy_angle: m.dilatancy_angle.to_radians(),
+                tensile_strength: m.tensile_strength.unwrap_or(apex).min(apex),
+            }
+        })
+    }
+
+    /// The Gauss rule of the soil elements.
+    pub fn integration(&self) -> crate::element::solid::Integration {
+        if self.analysis.reduced_integration {
+            crate::element::solid::Integration::Reduced
+        } else {
+            crate::element::solid::Integration::Full
+        }
+    }
+
+    /// Whether any soil yields (Mohr–Coulomb).
+    pub fn has_plastic_soil(&self) -> bool {
+        self.soils.iter().any(|(_, m)| m.model == file::SoilModel::MohrCoulomb)
+    }
+
+    /// Soil elements absent at the start: those a stage activates.
+    pub fn initially_absent(&self) -> Vec<bool> {
+        let mut absent = vec![false; self.mesh.solids.len()];
+        for s in &self.stages {
+            for &e in &s.activate {
+                absent[e] = true;
+            }
+        }
+        absent
+    }
+
+    /// γw of 9.81 kN/m³ in the given units.
+    pub fn default_water_weight(units: &Units) -> f64 {
+        use file::{ForceUnit::*, LengthUnit::*};
+        let force = match units.force {
+            Newton => 1e3,
+            Kilonewton => 1.0,
+            Meganewton => 1e-3,
+        };
+        let length = match units.length {
+            Metre => 1.0,
+            Millimetre => 1e3,
+        };
+        9.81 * force / (length * length * length)
     }
 
     /// Unit labels for output headers.

@@ -3,7 +3,7 @@
 use super::file::*;
 use super::problems::Problems;
 use super::{Load, LoadedSide, Model, StagePlan};
-use crate::element::solid::{mapped_points, BadJacobian};
+use crate::element::solid::{mapped_points, BadJacobian, Integration};
 use crate::error::ModelError;
 use crate::interface::{build, Interface, ShearLaw};
 use crate::mesh::{Bar, Mesh, NodeIndex, SideMap, Solid};
@@ -27,6 +27,53 @@ pub(super) fn validate(source: &Path, file: &ModelFile) -> Result<Model, ModelEr
         }
         if !(m.unit_weight.is_finite() && m.unit_weight >= 0.0) {
             p.push(f("unit_weight"), &entity, format!("must be zero or positive, found {}", m.unit_weight));
+        }
+        if let Some(g) = m.saturated_unit_weight {
+            if !(g.is_finite() && g >= 0.0) {
+                p.push(f("saturated_unit_weight"), &entity, format!("must be zero or positive, found {g}"));
+            }
+        }
+        if let Some(k0) = m.k0 {
+            if !(k0.is_finite() && k0 > 0.0) {
+                p.push(f("k0"), &entity, format!("must be a positive number, found {k0}"));
+            }
+        }
+        let plastic = m.model == SoilModel::MohrCoulomb;
+        if plastic {
+            if !(m.cohesion.is_finite() && m.cohesion >= 0.0) {
+                p.push(f("cohesion"), &entity, format!("must be zero or positive, found {}", m.cohesion));
+            }
+            if !(m.friction_angle.is_finite() && (0.0..90.0).contains(&m.friction_angle)) {
+                p.push(f("friction_angle"), &entity, format!("must be in [0, 90) degrees, found {}", m.friction_angle));
+            } else if m.cohesion == 0.0 && m.friction_angle == 0.0 {
+                p.push(f("cohesion"), &entity, "a Mohr–Coulomb soil with c = 0 and φ = 0 has no strength");
+            }
+            if !(m.dilatancy_angle.is_finite() && m.dilatancy_angle >= 0.0 && m.dilatancy_angle <= m.friction_angle) {
+                p.push(
+                    f("dilatancy_angle"),
+                    &entity,
+                    format!(
+                        "must be in [0, friction_angle = {}] degrees, found {}",
+                        m.friction_angle, m.dilatancy_angle
+                    ),
+                );
+            }
+            if let Some(t) = m.tensile_strength {
+                if !(t.is_finite() && t >= 0.0) {
+                    p.push(f("tensile_strength"), &entity, format!("must be zero or positive, found {t}"));
+                }
+            }
+        } else {
+            for (field, given) in [
+                ("cohesion", m.cohesion != 0.0),
+                ("friction_angle", m.friction_angle != 0.0),
+                ("dilatancy_angle", m.dilatancy_angle != 0.0),
+                ("tensile_strength", m.tensile_strength.is_some()),
+            ] {
+                if given {
+                    p.push(f(field), &entity, "is a strength parameter: set model = \"mohr-coulomb\" to use it");
+                }
+            }
         }
     }
     let reinforcements: Vec<(String, ReinforcementMaterial)> =
@@ -104,7 +151,7 @@ pub(super) fn validate(source: &Path, file: &ModelFile) -> Result<Model, ModelEr
             mesh_ok = false;
         }
         if p.len() == before && finite {
-            if let Err(BadJacobian { det }) = mapped_points(e.kind, &coords) {
+            if let Err(BadJacobian { det }) = mapped_points(e.kind, &coords, Integration::Full) {
                 let msg = if det < 0.0 {
                     "has negative area or is inverted: list its corners counter-clockwise".to_string()
                 } else {
@@ -367,6 +414,25 @@ pub(super) fn validate(source: &Path, file: &ModelFile) -> Result<Model, ModelEr
         }
     }
 
+    // Element sets: soil element ids → indices.
+    let solid_index: HashMap<u64, usize> = mesh.solids.iter().enumerate().map(|(i, e)| (e.id, i)).collect();
+    let mut element_sets: BTreeMap<String, Vec<usize>> = BTreeMap::new();
+    for (name, ids) in &file.element_sets {
+        let mut set = Vec::new();
+        for (k, id) in ids.iter().enumerate() {
+            match solid_index.get(id) {
+                Some(&i) => set.push(i),
+                None => p.push(
+                    format!("element_sets.{name}[{k}]"),
+                    format!("element {id}"),
+                    "no soil element has this id (element sets hold soil elements)",
+                ),
+            }
+        }
+        element_sets.insert(name.clone(), set);
+    }
+    let water_weight = Model::default_water_weight(&file.units);
+
     if file.stages.is_empty() {
         p.push(
             "stages",
@@ -375,6 +441,7 @@ pub(super) fn validate(source: &Path, file: &ModelFile) -> Result<Model, ModelEr
         );
     }
     let mut stages = Vec::new();
+    let mut placed: HashSet<usize> = HashSet::new();
     let mut stage_names = HashSet::new();
     for (k, s) in file.stages.iter().enumerate() {
         let field = format!("stages[{k}]");
@@ -454,7 +521,71 @@ pub(super) fn validate(source: &Path, file: &ModelFile) -> Result<Model, ModelEr
                 }
             }
         }
-        stages.push(StagePlan { name: s.name.clone(), load_factors: lf.clone(), loads, prescribed });
+        let sets = |names: &[String], key: &str, p: &mut Problems| -> Vec<usize> {
+            let mut out = Vec::new();
+            for (j, name) in names.iter().enumerate() {
+                match element_sets.get(name) {
+                    Some(set) => out.extend(set.iter().copied()),
+                    None => p.push(
+                        format!("{field}.{key}[{j}]"),
+                        &entity,
+                        format!(
+                            "no element set named \"{name}\"{}",
+                            if element_sets.is_empty() {
+                                String::new()
+                            } else {
+                                format!("; there are: {}", element_sets.keys().cloned().collect::<Vec<_>>().join(", "))
+                            }
+                        ),
+                    ),
+                }
+            }
+            out
+        };
+        let activate = sets(&s.activate, "activate", &mut p);
+        let deactivate = sets(&s.deactivate, "deactivate", &mut p);
+        for &e in &activate {
+            if !placed.insert(e) {
+                p.push(
+                    format!("{field}.activate"),
+                    format!("element {}", mesh.solids[e].id),
+                    "is placed twice (in two stages, or in two sets of one stage)",
+                );
+            }
+        }
+        let water = s.water.as_ref().map(|w| {
+            let wfield = format!("{field}.water");
+            let given = [w.level.is_some(), w.line.is_some(), w.none].iter().filter(|&&g| g).count();
+            if given != 1 {
+                p.push(&wfield, &entity, "give exactly one of `level`, `line` or `none = true`");
+            }
+            let unit_weight = w.unit_weight.unwrap_or(water_weight);
+            if !(unit_weight.is_finite() && unit_weight > 0.0) {
+                p.push(format!("{wfield}.unit_weight"), &entity, format!("must be positive, found {unit_weight}"));
+            }
+            let line = match (&w.level, &w.line) {
+                (Some(y), _) => vec![[0.0, *y]],
+                (_, Some(line)) => line.clone(),
+                _ => Vec::new(),
+            };
+            if line.iter().any(|q| !(q[0].is_finite() && q[1].is_finite())) {
+                p.push(&wfield, &entity, "the water table's coordinates must be finite numbers");
+            }
+            if w.line.is_some() && (line.is_empty() || line.windows(2).any(|q| !(q[1][0] > q[0][0]))) {
+                p.push(format!("{wfield}.line"), &entity, "give at least one point, with x strictly increasing");
+            }
+            (!w.none && !line.is_empty()).then_some(super::WaterTable { line, unit_weight })
+        });
+        stages.push(StagePlan {
+            name: s.name.clone(),
+            load_factors: lf.clone(),
+            loads,
+            prescribed,
+            activate,
+            deactivate,
+            k0: s.initial_stress == Some(InitialStress::K0),
+            water,
+        });
     }
 
     let a = &file.analysis;
@@ -483,6 +614,7 @@ pub(super) fn validate(source: &Path, file: &ModelFile) -> Result<Model, ModelEr
             soils,
             reinforcements,
             node_sets,
+            element_sets,
             supports,
             interfaces,
             stages,

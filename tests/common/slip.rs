@@ -22,7 +22,7 @@ pub fn bar_in_rigid_soil(
     let mut node_sets = BTreeMap::new();
     node_sets.insert("soil".into(), block.nodes.iter().map(|n| n.0).collect());
     let mut soil = BTreeMap::new();
-    soil.insert("bed".into(), SoilMaterial { youngs_modulus: 1.0e5, poissons_ratio: 0.3, unit_weight: 0.0 });
+    soil.insert("bed".into(), SoilMaterial::linear_elastic(1.0e5, 0.3, 0.0));
     let mut reinforcement = BTreeMap::new();
     reinforcement
         .insert("grid".into(), ReinforcementMaterial { axial_stiffness, tension_only: false, rupture_strength: None });
@@ -35,6 +35,7 @@ pub fn bar_in_rigid_soil(
         bars: Vec::new(),
         node_sets,
         edge_sets: BTreeMap::new(),
+        element_sets: BTreeMap::new(),
         supports: vec![support("soil", &[Direction::X, Direction::Y])],
         interfaces: vec![InterfaceSpec {
             name: "grid".into(),
@@ -55,6 +56,7 @@ pub fn bar_in_rigid_soil(
                 ux: Some(-pull),
                 uy: None,
             }],
+            ..Default::default()
         }],
         analysis: AnalysisSettings { reassociation, ..AnalysisSettings::default() },
         mesh: None,

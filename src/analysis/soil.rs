@@ -1,0 +1,571 @@
+//! The soil through a run: which elements are present, the effective stresses at their Gauss points,
+//! the pore pressures, the soil's weight, and the forces and tangents all of these give.
+//!
+//! Total stress is σ = σ′ − p·m, with m = (1, 1, 0, 1) and p the pore pressure (compression
+//! positive); the internal force of an element is ∫Bᵀσ′ dA − ∫Bᵀm·p dA.
+//! - A linear-elastic element keeps a reference state (its stresses when placed or given K0
+//!   stresses, and its displacements then): σ′ = σ′₀ + D·B·(u − u₀), so its force is
+//!   ∫Bᵀσ′₀ dA + K_e·(u − u₀) and K_e is computed once.
+//! - A Mohr–Coulomb element keeps the committed σ′ at each Gauss point; each iteration updates it
+//!   for the strain since the last converged increment (`mohr_coulomb::update`). A cutback restores
+//!   the committed state with the rest of the run's state.
+
+use crate::element::mohr_coulomb::{self, MohrCoulomb, YieldState};
+use crate::element::solid::{self, Integration, MappedPoint, PlaneStrain};
+use crate::model::{Model, WaterTable};
+use nalgebra::DMatrix;
+use rayon::prelude::*;
+
+/// The state of one Gauss point.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct PointState {
+    /// Effective stress σ′xx, σ′yy, τxy, σ′zz; tension positive.
+    pub stress: [f64; 4],
+    /// Accumulated equivalent plastic strain.
+    pub plastic_strain: f64,
+    pub yield_state: YieldState,
+}
+
+/// The state of one soil element.
+#[derive(Debug, Clone, Default)]
+pub struct ElementState {
+    pub active: bool,
+    /// Element displacements when the element was placed or given its initial stresses: its
+    /// strains count from here. `None`: zero.
+    pub placed: Option<Vec<f64>>,
+    /// Effective stress at each Gauss point: the committed state of a Mohr–Coulomb element, the
+    /// reference stress σ′₀ of a linear-elastic one. Empty: zero everywhere.
+    pub points: Vec<PointState>,
+    /// Linear-elastic elements: ∫Bᵀσ′₀ dA.
+    pub reference_force: Option<Vec<f64>>,
+    /// Pore pressure at each Gauss point (empty: dry).
+    pub pore: Vec<f64>,
+    /// ∫Bᵀm·p dA.
+    pub pore_force: Option<Vec<f64>>,
+}
+
+/// Every soil element's state, and the water table in force.
+#[derive(Debug, Clone, Default)]
+pub struct SoilField {
+    pub elements: Vec<ElementState>,
+    pub water: Option<WaterTable>,
+}
+
+/// What does not change through a run: each element's laws, its DOFs, and the Gauss points of the
+/// Mohr–Coulomb elements (mapped once).
+pub struct SoilSetup {
+    pub laws: Vec<Option<MohrCoulomb>>,
+    pub elastic: Vec<PlaneStrain>,
+    pub dofs: Vec<Vec<usize>>,
+    pub rule: Integration,
+    points: Vec<Option<Vec<MappedPoint>>>,
+}
+
+impl SoilSetup {
+    pub fn new(model: &Model) -> SoilSetup {
+        let rule = model.integration();
+        let mesh = &model.mesh;
+        let laws: Vec<Option<MohrCoulomb>> = (0..mesh.solids.len()).map(|s| model.strength(s)).collect();
+        let elastic = (0..mesh.solids.len())
+            .map(|s| {
+                let m = model.soil(s);
+                PlaneStrain { youngs_modulus: m.youngs_modulus, poissons_ratio: m.poissons_ratio }
+            })
+            .collect();
+        let dofs = mesh.solids.iter().map(|e| e.nodes.iter().flat_map(|&n| [2 * n, 2 * n + 1]).collect()).collect();
+        let points =
+            mesh.solids.par_iter().zip(&laws).map(|(e, law)| law.map(|_| element_points(model, e, rule))).collect();
+        SoilSetup { laws, elastic, dofs, rule, points }
+    }
+
+    pub fn is_plastic(&self, solid: usize) -> bool {
+        self.laws[solid].is_some()
+    }
+
+    /// Whether any element may yield.
+    pub fn any_plastic(&self) -> bool {
+        self.laws.iter().any(|l| l.is_some())
+    }
+
+    /// Whether some law has ψ ≠ φ (an unsymmetric consistent tangent).
+    pub fn non_associated(&self) -> bool {
+        self.laws.iter().flatten().any(|l| l.dilatancy_angle != l.friction_angle)
+    }
+}
+
+fn element_points(model: &Model, e: &crate::mesh::Solid, rule: Integration) -> Vec<MappedPoint> {
+    let coords: Vec<[f64; 2]> = e.nodes.iter().map(|&n| model.mesh.position(n)).collect();
+    solid::mapped_points(e.kind, &coords, rule).expect("element Jacobians were checked when the model was read")
+}
+
+/// Strain (εxx, εyy, γxy) at a mapped point for element displacements `u_e`.
+fn strain(p: &MappedPoint, u_e: &[f64]) -> [f64; 3] {
+    let mut e = [0.0; 3];
+    for (i, d) in p.dn_dx.iter().enumerate() {
+        let (ux, uy) = (u_e[2 * i], u_e[2 * i + 1]);
+        e[0] += d[0] * ux;
+        e[1] += d[1] * uy;
+        e[2] += d[1] * ux + d[0] * uy;
+    }
+    e
+}
+
+/// Add Bᵀ·(σxx, σyy, τxy)·w to an element force vector.
+fn add_bt_sigma(p: &MappedPoint, s: [f64; 3], f: &mut [f64]) {
+    for (i, d) in p.dn_dx.iter().enumerate() {
+        f[2 * i] += (d[0] * s[0] + d[1] * s[2]) * p.weight;
+        f[2 * i + 1] += (d[1] * s[1] + d[0] * s[2]) * p.weight;
+    }
+}
+
+/// The field at the start of a run: every element present but those a stage places later.
+pub fn initial_field(model: &Model) -> SoilField {
+    let absent = model.initially_absent();
+    SoilField {
+        elements: absent.iter().map(|&a| ElementState { active: !a, ..ElementState::default() }).collect(),
+        water: None,
+    }
+}
+
+/// Nodes of present soil elements.
+pub fn present_nodes(model: &Model, field: &SoilField) -> Vec<bool> {
+    let mut present = vec![false; model.mesh.nodes.len()];
+    for (e, s) in model.mesh.solids.iter().zip(&field.elements) {
+        if s.active {
+            for &n in &e.nodes {
+                present[n] = true;
+            }
+        }
+    }
+    present
+}
+
+fn element_u(dofs: &[usize], u: &[f64]) -> Vec<f64> {
+    dofs.iter().map(|&d| u[d]).collect()
+}
+
+/// Place soil elements: each starts stress-free on the deformed ground. A node that no present
+/// element used before takes the displacement of the nearest node that one did (the ground it is
+/// placed on), so that the new element's strains count from the deformed geometry.
+pub fn activate(model: &Model, setup: &SoilSetup, field: &mut SoilField, solids: &[usize], u: &mut [f64]) {
+    let before = present_nodes(model, field);
+    let old: Vec<usize> = (0..before.len()).filter(|&n| before[n]).collect();
+    let mesh = &model.mesh;
+    let mut moved = vec![false; before.len()];
+    for &s in solids {
+        for &n in &mesh.solids[s].nodes {
+            if before[n] || moved[n] {
+                continue;
+            }
+            moved[n] = true;
+            let x = mesh.position(n);
+            let nearest = old.iter().copied().min_by(|&a, &b| {
+                let (pa, pb) = (mesh.position(a), mesh.position(b));
+                let da = (pa[0] - x[0]).powi(2) + (pa[1] - x[1]).powi(2);
+                let db = (pb[0] - x[0]).powi(2) + (pb[1] - x[1]).powi(2);
+                da.total_cmp(&db)
+            });
+            if let Some(m) = nearest {
+                u[2 * n] = u[2 * m];
+                u[2 * n + 1] = u[2 * m + 1];
+            }
+        }
+    }
+    for &s in solids {
+        let state = &mut field.elements[s];
+        if state.active {
+            continue;
+        }
+        *state = ElementState {
+            active: true,
+            placed: Some(element_u(&setup.dofs[s], u)),
+            points: Vec::new(),
+            reference_force: None,
+            pore: Vec::new(),
+            pore_force: None,
+        };
+    }
+}
+
+/// Remove soil elements (excavation).
+pub fn deactivate(field: &mut SoilField, solids: &[usize]) {
+    for &s in solids {
+        field.elements[s] = ElementState::default();
+    }
+}
+
+/// The pore pressures of every present element under `water` (or none).
+pub fn set_water(model: &Model, setup: &SoilSetup, field: &mut SoilField, water: Option<WaterTable>) {
+    let mesh = &model.mesh;
+    field.water = water;
+    let water = field.water.clone();
+    field.elements.par_iter_mut().enumerate().for_each(|(s, state)| {
+        state.pore.clear();
+        state.pore_force = None;
+        let (Some(w), true) = (&water, state.active) else { return };
+        let points = element_points(model, &mesh.solids[s], setup.rule);
+        let pore: Vec<f64> = points.iter().map(|p| w.pressure(p.x)).collect();
+        if pore.iter().all(|&p| p == 0.0) {
+            return;
+        }
+        let mut f = vec![0.0; setup.dofs[s].len()];
+        for (p, &pw) in points.iter().zip(&pore) {
+            add_bt_sigma(p, [pw, pw, 0.0], &mut f);
+        }
+        state.pore = pore;
+        state.pore_force = Some(f);
+    });
+}
+
+/// The unit weight at a point: saturated below the water table.
+fn unit_weight(model: &Model, solid: usize, water: Option<&WaterTable>, x: [f64; 2]) -> f64 {
+    let m = model.soil(solid);
+    match water {
+        Some(w) if x[1] < w.level_at(x[0]) => m.saturated_weight(),
+        _ => m.unit_weight,
+    }
+}
+
+/// Consistent nodal forces of the weight (−y) of the present soil, times `factor`.
+pub fn weight(model: &Model, setup: &SoilSetup, field: &SoilField, factor: f64) -> Vec<f64> {
+    let mesh = &model.mesh;
+    let mut f = vec![0.0; 2 * mesh.nodes.len()];
+    if factor == 0.0 {
+        return f;
+    }
+    for (s, e) in mesh.solids.iter().enumerate() {
+        if !field.elements[s].active {
+            continue;
+        }
+        for p in element_points(model, e, setup.rule) {
+            let g = factor * unit_weight(model, s, field.water.as_ref(), p.x);
+            for (i, &n) in e.nodes.iter().enumerate() {
+                f[2 * n + 1] -= p.n[i] * g * p.weight;
+            }
+        }
+    }
+    f
+}
+
+/// The K0 initial stresses of every present element: at each Gauss point, σv is the weight of the
+/// present soil in the vertical line above it (saturated below the water table), σ′v = σv − p,
+/// σ′h = σ′zz = K0·σ′v and no shear. Exact for horizontal ground and layers; elsewhere the stresses
+/// are not in equilibrium and the stage's iterations correct them.
+pub fn set_k0(model: &Model, setup: &SoilSetup, field: &mut SoilField, u: &[f64]) {
+    let mesh = &model.mesh;
+    // The x-range and corner polygon of every present element, in buckets along x.
+    let polygons: Vec<Option<Vec<[f64; 2]>>> = mesh
+        .solids
+        .iter()
+        .zip(&field.elements)
+        .map(|(e, st)| st.active.then(|| e.nodes[..e.kind.corner_count()].iter().map(|&n| mesh.position(n)).collect()))
+        .collect();
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for poly in polygons.iter().flatten() {
+        for q in poly {
+            lo = lo.min(q[0]);
+            hi = hi.max(q[0]);
+        }
+    }
+    if !(hi >= lo) {
+        return;
+    }
+    let count = ((polygons.iter().flatten().count() as f64).sqrt().ceil() as usize).max(1);
+    let width = ((hi - lo) / count as f64).max(f64::MIN_POSITIVE);
+    let bucket = |x: f64| (((x - lo) / width) as usize).min(count - 1);
+    let mut buckets: Vec<Vec<usize>> = vec![Vec::new(); count];
+    for (s, poly) in polygons.iter().enumerate() {
+        if let Some(poly) = poly {
+            let (a, b) = poly.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), q| (a.min(q[0]), b.max(q[0])));
+            for k in bucket(a)..=bucket(b) {
+                buckets[k].push(s);
+            }
+        }
+    }
+    let water = field.water.clone();
+    let vertical_stress = |x: [f64; 2]| -> f64 {
+        let mut sigma = 0.0;
+        for &s in &buckets[bucket(x[0])] {
+            let poly = polygons[s].as_ref().expect("bucketed elements are present");
+            let Some((y0, y1)) = vertical_chord(poly, x[0]) else { continue };
+            let (from, to) = (y0.max(x[1]), y1);
+            if to <= from {
+                continue;
+            }
+            let m = model.soil(s);
+            match &water {
+                Some(w) => {
+                    let h = w.level_at(x[0]);
+                    let wet = (to.min(h) - from).max(0.0);
+                    let dry = (to - from) - wet;
+                    sigma += m.saturated_weight() * wet + m.unit_weight * dry;
+                }
+                None => sigma += m.unit_weight * (to - from),
+            }
+        }
+        sigma
+    };
+    let stresses: Vec<Option<(Vec<PointState>, Vec<f64>)>> = (0..mesh.solids.len())
+        .into_par_iter()
+        .map(|s| {
+            if !field.elements[s].active {
+                return None;
+            }
+            let points = element_points(model, &mesh.solids[s], setup.rule);
+            let k0 = model.soil(s).k0();
+            let mut force = vec![0.0; setup.dofs[s].len()];
+            let states = points
+                .iter()
+                .map(|p| {
+                    let pore = water.as_ref().map_or(0.0, |w| w.pressure(p.x));
+                    let sv = vertical_stress(p.x) - pore;
+                    let stress = [-k0 * sv, -sv, 0.0, -k0 * sv];
+                    add_bt_sigma(p, [stress[0], stress[1], stress[2]], &mut force);
+                    PointState { stress, plastic_strain: 0.0, yield_state: YieldState::Elastic }
+                })
+                .collect();
+            Some((states, force))
+        })
+        .collect();
+    for (s, st) in stresses.into_iter().enumerate() {
+        if let Some((points, force)) = st {
+            let e = &mut field.elements[s];
+            e.points = points;
+            e.placed = Some(element_u(&setup.dofs[s], u));
+            e.reference_force = if setup.is_plastic(s) { None } else { Some(force) };
+        }
+    }
+}
+
+/// The interval of y that the vertical line at `x` cuts from a convex polygon.
+fn vertical_chord(poly: &[[f64; 2]], x: f64) -> Option<(f64, f64)> {
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for k in 0..poly.len() {
+        let (a, b) = (poly[k], poly[(k + 1) % poly.len()]);
+        let (xa, xb) = (a[0].min(b[0]), a[0].max(b[0]));
+        if x < xa || x > xb {
+            continue;
+        }
+        if xb - xa <= 1e-14 * (1.0 + xb.abs()) {
+            lo = lo.min(a[1].min(b[1]));
+            hi = hi.max(a[1].max(b[1]));
+        } else {
+            let y = a[1] + (x - a[0]) / (b[0] - a[0]) * (b[1] - a[1]);
+            lo = lo.min(y);
+            hi = hi.max(y);
+        }
+    }
+    (hi >= lo).then_some((lo, hi))
+}
+
+/// Which tangent the Mohr–Coulomb elements give the matrix.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Tangent {
+    /// The consistent tangent (unsymmetric when ψ ≠ φ).
+    Consistent,
+    /// Its symmetric part.
+    Symmetric,
+    /// The elastic matrix (constant stiffness).
+    Elastic,
+}
+
+/// The Mohr–Coulomb elements at the current iterate.
+#[derive(Debug, Clone, Default)]
+pub struct SoilTrial {
+    /// Per soil element: the internal force ∫Bᵀσ′ dA of a present Mohr–Coulomb element.
+    pub forces: Vec<Option<Vec<f64>>>,
+    /// Per soil element: its tangent where it differs from the elastic matrix.
+    pub tangents: Vec<Option<DMatrix<f64>>>,
+    /// Per soil element: the updated Gauss-point states.
+    pub points: Vec<Option<Vec<PointState>>>,
+    /// Gauss points on the yield surface.
+    pub yielding: usize,
+}
+
+/// Update every present Mohr–Coulomb element for the displacements since the last converged
+/// increment.
+pub fn evaluate(setup: &SoilSetup, field: &SoilField, u: &[f64], u_committed: &[f64], tangent: Tangent) -> SoilTrial {
+    let n = setup.laws.len();
+    if !setup.any_plastic() {
+        return SoilTrial { forces: vec![None; n], tangents: vec![None; n], points: vec![None; n], yielding: 0 };
+    }
+    type ElementTrial = (Option<Vec<f64>>, Option<DMatrix<f64>>, Option<Vec<PointState>>, usize);
+    let results: Vec<ElementTrial> = (0..n)
+        .into_par_iter()
+        .map(|s| {
+            let (Some(law), Some(points), true) = (&setup.laws[s], &setup.points[s], field.elements[s].active) else {
+                return (None, None, None, 0);
+            };
+            let dofs = &setup.dofs[s];
+            let du: Vec<f64> = dofs.iter().map(|&d| u[d] - u_committed[d]).collect();
+            let committed = &field.elements[s].points;
+            let mut force = vec![0.0; dofs.len()];
+            let mut k = DMatrix::zeros(dofs.len(), dofs.len());
+            let mut states = Vec::with_capacity(points.len());
+            let mut yielding = 0;
+            for (g, p) in points.iter().enumerate() {
+                let old = committed.get(g).copied().unwrap_or_default();
+                let update = mohr_coulomb::update(law, &setup.elastic[s], old.stress, strain(p, &du));
+                add_bt_sigma(p, [update.stress[0], update.stress[1], update.stress[2]], &mut force);
+                if update.state.is_plastic() {
+                    yielding += 1;
+                }
+                // At the apex the stress cannot change at all (its tangent is zero); a patch of
+                // such points, as at a cohesionless surface, would be a mechanism of the iteration
+                // matrix alone, so they keep the elastic matrix there.
+                if update.state.is_plastic() && update.state != YieldState::Apex && tangent != Tangent::Elastic {
+                    let c = match tangent {
+                        Tangent::Symmetric => 0.5 * (update.tangent + update.tangent.transpose()),
+                        _ => update.tangent,
+                    };
+                    let b = solid::b_matrix(&p.dn_dx);
+                    let cb = nalgebra::DMatrix::from_fn(3, 3, |i, j| c[(i, j)]) * &b;
+                    k += b.transpose() * cb * p.weight;
+                } else {
+                    let b = solid::b_matrix(&p.dn_dx);
+                    let d = setup.elastic[s].d_matrix();
+                    let db = nalgebra::DMatrix::from_fn(3, 3, |i, j| d[(i, j)]) * &b;
+                    k += b.transpose() * db * p.weight;
+                }
+                states.push(PointState {
+                    stress: update.stress,
+                    plastic_strain: old.plastic_strain + update.plastic_strain,
+                    yield_state: update.state,
+                });
+            }
+            let tangent = (yielding > 0 && tangent != Tangent::Elastic).then_some(k);
+            (Some(force), tangent, Some(states), yielding)
+        })
+        .collect();
+    let mut trial = SoilTrial::default();
+    for (f, k, p, y) in results {
+        trial.forces.push(f);
+        trial.tangents.push(k);
+        trial.points.push(p);
+        trial.yielding += y;
+    }
+    trial
+}
+
+/// Keep the converged Gauss-point states.
+pub fn commit(field: &mut SoilField, trial: &SoilTrial) {
+    for (state, points) in field.elements.iter_mut().zip(&trial.points) {
+        if let Some(points) = points {
+            state.points = points.clone();
+        }
+    }
+}
+
+/// The soil's part of the internal force of element `s` (with element displacements `u_e`), added
+/// into `f` at the element's local positions: the Mohr–Coulomb force, or K_e·(u_e − u₀) + ∫Bᵀσ′₀,
+/// less ∫Bᵀm·p. Returns false for an absent element.
+pub fn element_force(
+    field: &SoilField,
+    trial: &SoilTrial,
+    s: usize,
+    k: &DMatrix<f64>,
+    u_e: &[f64],
+    f: &mut [f64],
+) -> bool {
+    let state = &field.elements[s];
+    if !state.active {
+        return false;
+    }
+    match trial.forces.get(s).and_then(|f| f.as_ref()) {
+        Some(force) => {
+            for (a, v) in force.iter().enumerate() {
+                f[a] += v;
+            }
+        }
+        None => {
+            let n = u_e.len();
+            for a in 0..n {
+                let mut sum = 0.0;
+                for b in 0..n {
+                    let placed = state.placed.as_ref().map_or(0.0, |p| p[b]);
+                    sum += k[(a, b)] * (u_e[b] - placed);
+                }
+                f[a] += sum;
+            }
+            if let Some(r) = &state.reference_force {
+                for (a, v) in r.iter().enumerate() {
+                    f[a] += v;
+                }
+            }
+        }
+    }
+    if let Some(p) = &state.pore_force {
+        for (a, v) in p.iter().enumerate() {
+            f[a] -= v;
+        }
+    }
+    true
+}
+
+/// The Gauss-point results of every present element: effective stress, strain since placement,
+/// pore pressure and yield state.
+pub fn gauss_results(model: &Model, field: &SoilField, u: &[f64]) -> Vec<super::results::ElementStress> {
+    let mesh = &model.mesh;
+    let rule = model.integration();
+    let per_element: Vec<Vec<super::results::ElementStress>> = (0..mesh.solids.len())
+        .into_par_iter()
+        .map(|s| {
+            let state = &field.elements[s];
+            if !state.active {
+                return Vec::new();
+            }
+            let e = &mesh.solids[s];
+            let dofs: Vec<usize> = e.nodes.iter().flat_map(|&n| [2 * n, 2 * n + 1]).collect();
+            let mut u_e = element_u(&dofs, u);
+            if let Some(p) = &state.placed {
+                for (a, b) in u_e.iter_mut().zip(p) {
+                    *a -= b;
+                }
+            }
+            let m = model.soil(s);
+            let elastic = PlaneStrain { youngs_modulus: m.youngs_modulus, poissons_ratio: m.poissons_ratio };
+            let plastic = model.strength(s).is_some();
+            element_points(model, e, rule)
+                .iter()
+                .enumerate()
+                .map(|(g, p)| {
+                    let eps = strain(p, &u_e);
+                    let point = state.points.get(g).copied().unwrap_or_default();
+                    let stress = if plastic {
+                        point.stress
+                    } else {
+                        let s0 = point.stress;
+                        let d = mohr_coulomb::trial_stress(&elastic, s0, eps);
+                        [d[0], d[1], d[2], d[3]]
+                    };
+                    super::results::ElementStress {
+                        element: e.id,
+                        point: g + 1,
+                        x: p.x,
+                        stress,
+                        strain: eps,
+                        pore_pressure: state.pore.get(g).copied().unwrap_or(0.0),
+                        yield_state: point.yield_state,
+                        plastic_strain: point.plastic_strain,
+                    }
+                })
+                .collect()
+        })
+        .collect();
+    per_element.into_iter().flatten().collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::vertical_chord;
+
+    #[test]
+    fn vertical_chord_of_a_quadrilateral() {
+        let quad = [[0.0, 0.0], [2.0, 0.0], [2.0, 1.0], [0.0, 2.0]];
+        let (lo, hi) = vertical_chord(&quad, 1.0).unwrap();
+        assert!((lo - 0.0).abs() < 1e-15 && (hi - 1.5).abs() < 1e-15);
+        assert!(vertical_chord(&quad, 2.5).is_none());
+        let (lo, hi) = vertical_chord(&quad, 2.0).unwrap();
+        assert!((lo - 0.0).abs() < 1e-15 && (hi - 1.0).abs() < 1e-15);
+    }
+}
