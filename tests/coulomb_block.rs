@@ -155,3 +155,32 @@ fn a_frozen_normal_stress_keeps_the_strength_of_the_stage_start() {
         assert!((f - exact).abs() < 1e-9 * exact, "freeze = {freeze}: F = {f}, expected {exact}");
     }
 }
+
+/// Effective stress (Terzaghi): with the water table 0.25 m above the base (on an element
+/// boundary: the weight is integrated at the Gauss points), the interface strength acts on
+/// σn′ = σn − p. The block weighs γ = 18 kN/m³ above the water and 20 below, so
+/// N′ = q·A + 18·0.25·A + (20 − γw)·0.25·A, and the sliding force is c·A + μ·N′.
+#[test]
+fn under_water_the_interface_strength_uses_the_effective_normal_stress() {
+    let mu = (30f64).to_radians().tan();
+    let mut file = block_on_base(0.05);
+    let soil = file.materials.soil.get_mut("soil").unwrap();
+    soil.unit_weight = 18.0;
+    soil.saturated_unit_weight = Some(20.0);
+    file.stages[0].loads.push(LoadSpec::Gravity { factor: 1.0 });
+    file.stages[0].water = Some(WaterTable { level: Some(0.25), line: None, none: false, unit_weight: None });
+    let model = common::model(&file, "coulomb-block.toml");
+    let gamma_w = geoslip::model::Model::default_water_weight(&model.units);
+    let n_effective = Q + 18.0 * 0.25 + (20.0 - gamma_w) * 0.25;
+    for backend in Backend::available() {
+        let c = common::run(&model, backend);
+        let r = c.last().unwrap();
+        let f: f64 = model.node_sets["block"].iter().map(|&n| r.reaction_vector[2 * n]).sum();
+        let exact = C + mu * n_effective;
+        assert!((f - exact).abs() < 1e-9 * exact, "{backend:?}: F = {f}, expected c·A + μ·N′ = {exact}");
+        // the contact itself carries the total stress: N′ + p·A
+        let total: f64 = r.interface_points.iter().map(|p| p.lambda).sum();
+        let expected_total = n_effective + gamma_w * 0.25;
+        assert!((total - expected_total).abs() < 1e-9 * expected_total, "{backend:?}: N = {total}");
+    }
+}

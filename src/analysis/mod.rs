@@ -198,7 +198,8 @@ pub fn run(model: &Model, options: &RunOptions, sink: &mut dyn StepSink) -> Resu
     for &(n, d) in &model.supports {
         held[dof(n, d)] = true;
     }
-    // Gravity so far (the sum of the stages' gravity factors) and the weight it put in f_ext.
+    // Gravity so far (the sum of the stages' gravity factors), and the weight and boundary water
+    // pressure in f_ext.
     let mut gravity = 0.0;
     let mut applied_weight = vec![0.0; dof_count];
     for (stage_index, stage) in model.stages.iter().enumerate() {
@@ -225,7 +226,10 @@ pub fn run(model: &Model, options: &RunOptions, sink: &mut dyn StepSink) -> Resu
         // on or up, soil placed or removed, soil under a new water table).
         gravity +=
             stage.loads.iter().map(|l| if let Load::Gravity { factor } = l { *factor } else { 0.0 }).sum::<f64>();
-        let weight = soil::weight(model, &setup, &state.soil, gravity);
+        let mut weight = soil::weight(model, &setup, &state.soil, gravity);
+        for (w, p) in weight.iter_mut().zip(soil::water_on_boundary(model, &state.soil, &state.interfaces)) {
+            *w += p;
+        }
         let mut stage_force = external_force(model, &stage.loads);
         for ((f, w), a) in stage_force.iter_mut().zip(&weight).zip(&applied_weight) {
             *f += w - a;
@@ -631,6 +635,14 @@ fn evaluate_springs(state: &State, rows: &InterfaceRows) -> Vec<SpringResult> {
             let sigma_n = match &state.frozen_sigma_n {
                 Some(frozen) => frozen.get(k).copied().unwrap_or(0.0),
                 None => normal_stress(state, rows, s),
+            };
+            // the strength acts on the effective normal stress σn′ = σn − p
+            let sigma_n = match &state.soil.water {
+                Some(w) => {
+                    let at = [s.position[0] + state.u[2 * s.slave], s.position[1] + state.u[2 * s.slave + 1]];
+                    sigma_n - w.pressure(at)
+                }
+                None => sigma_n,
             };
             let response = if p.in_contact() {
                 interface.law.response(&p.shear, slip, sigma_n)

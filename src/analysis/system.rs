@@ -177,6 +177,9 @@ pub struct Spring {
     pub point: usize,
     /// The multiplier of the point's normal row.
     pub normal_multiplier: usize,
+    /// The slave node and its reference position (for the pore pressure there).
+    pub slave: usize,
+    pub position: [f64; 2],
 }
 
 /// The rows of the multipliers and the springs, for the current association.
@@ -231,6 +234,8 @@ impl InterfaceRows {
                             face: f,
                             point: p,
                             normal_multiplier: normal_multiplier[&(i, f, p)],
+                            slave: point.slave,
+                            position: model.mesh.position(point.slave),
                         });
                     }
                 }
