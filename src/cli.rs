@@ -246,7 +246,7 @@ impl StepSink for Progress<'_> {
         self.bar.set_message(format!("{} (load factor {:.3})", record.stage, record.load_factor));
         if self.verbosity == Verbosity::Verbose {
             let line = format!(
-                "stage \"{}\" step {}: load factor {:.4}, {} iterations, {} cutbacks, force residual {:.1e}, {} sliding of {} in contact, {} state changes, {} re-associations",
+                "stage \"{}\" step {}: load factor {:.4}, {} iterations, {} cutbacks, force residual {:.1e}, {} sliding of {} in contact, {} soil points yielding, {} state changes, {} re-associations",
                 record.stage,
                 record.step,
                 record.load_factor,
@@ -255,6 +255,7 @@ impl StepSink for Progress<'_> {
                 record.force_residual,
                 record.sliding_points,
                 record.contact_points,
+                record.yielding_points,
                 record.state_changes.len(),
                 record.reassociations.len()
             );

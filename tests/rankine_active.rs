@@ -40,19 +40,14 @@ fn backfill() -> (ModelFile, Vec<u64>) {
     let mut soil = BTreeMap::new();
     soil.insert("sand".into(), sand);
     let steps = 20;
-    let file = ModelFile {
-        title: "Rankine active".into(),
-        units: Units { length: LengthUnit::Metre, force: ForceUnit::Kilonewton },
-        materials: Materials { soil, reinforcement: BTreeMap::new() },
-        nodes: block.nodes,
-        elements: block.elements,
-        bars: Vec::new(),
+    let file = common::soil_model(
+        "Rankine active",
+        block.nodes,
+        block.elements,
+        soil,
         node_sets,
-        edge_sets: BTreeMap::new(),
-        element_sets: BTreeMap::new(),
-        supports: vec![support("base", &[Direction::Y]), support("far", &[Direction::X])],
-        interfaces: Vec::new(),
-        stages: vec![
+        vec![support("base", &[Direction::Y]), support("far", &[Direction::X])],
+        vec![
             Stage {
                 name: "K0".into(),
                 load_factors: vec![1.0],
@@ -80,15 +75,13 @@ fn backfill() -> (ModelFile, Vec<u64>) {
                 ..Default::default()
             },
         ],
-        analysis: AnalysisSettings {
+        AnalysisSettings {
             scheme: Scheme::Newton,
             force_tolerance: 1e-8,
             displacement_tolerance: 1e-8,
             ..AnalysisSettings::default()
         },
-        mesh: None,
-        series: None,
-    };
+    );
     (file, wall)
 }
 

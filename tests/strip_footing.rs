@@ -54,23 +54,18 @@ fn footing_model() -> (ModelFile, Vec<u64>) {
     let mut soil = BTreeMap::new();
     soil.insert("clay".into(), clay);
     let steps = 30;
-    let file = ModelFile {
-        title: "strip footing".into(),
-        units: Units { length: LengthUnit::Metre, force: ForceUnit::Kilonewton },
-        materials: Materials { soil, reinforcement: BTreeMap::new() },
-        nodes: block.nodes,
-        elements: block.elements,
-        bars: Vec::new(),
+    let file = common::soil_model(
+        "strip footing",
+        block.nodes,
+        block.elements,
+        soil,
         node_sets,
-        edge_sets: BTreeMap::new(),
-        element_sets: BTreeMap::new(),
-        supports: vec![
+        vec![
             support("base", &[Direction::X, Direction::Y]),
             support("axis", &[Direction::X]),
             support("far", &[Direction::X]),
         ],
-        interfaces: Vec::new(),
-        stages: vec![Stage {
+        vec![Stage {
             name: "push".into(),
             load_factors: (1..=steps).map(|k| k as f64 / steps as f64).collect(),
             prescribed: vec![PrescribedDisplacement {
@@ -82,15 +77,13 @@ fn footing_model() -> (ModelFile, Vec<u64>) {
             }],
             ..Default::default()
         }],
-        analysis: AnalysisSettings {
+        AnalysisSettings {
             scheme: Scheme::Newton,
             force_tolerance: 1e-8,
             displacement_tolerance: 1e-8,
             ..AnalysisSettings::default()
         },
-        mesh: None,
-        series: None,
-    };
+    );
     (file, footing)
 }
 

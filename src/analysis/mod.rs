@@ -118,6 +118,8 @@ pub struct StepRecord {
     pub reassociations: Vec<reassociate::Reassociation>,
     /// Points now sliding at their strength.
     pub sliding_points: usize,
+    /// Soil Gauss points on the yield surface.
+    pub yielding_points: usize,
     /// Points with a tangential law that are in contact.
     pub contact_points: usize,
     /// Force balance of every reinforcement: what is applied to its nodes against what its interfaces
@@ -139,8 +141,8 @@ pub struct State {
     pub u_committed: Vec<f64>,
     /// σn per spring frozen at the start of the stage (when asked for).
     pub frozen_sigma_n: Option<Vec<f64>>,
-    /// Bars (in mesh order) that have ruptured.
-    pub ruptured: Vec<bool>,
+    /// Bars (in mesh order): ruptured, not yet placed, stretch at placement.
+    pub bars: system::BarStates,
     /// The soil: present elements, Gauss-point stresses, pore pressures.
     pub soil: soil::SoilField,
 }
@@ -184,7 +186,10 @@ pub fn run(model: &Model, options: &RunOptions, sink: &mut dyn StepSink) -> Resu
         f_ext: vec![0.0; dof_count],
         u_committed: vec![0.0; dof_count],
         frozen_sigma_n: None,
-        ruptured: vec![false; model.mesh.bars.len()],
+        bars: system::BarStates {
+            absent: model.initially_absent_bars(),
+            ..system::BarStates::new(model.mesh.bars.len())
+        },
         soil: soil::initial_field(model),
     };
     let reserve = |interfaces: &mut [Interface]| {
@@ -210,7 +215,14 @@ pub fn run(model: &Model, options: &RunOptions, sink: &mut dyn StepSink) -> Resu
         let soil_changed =
             !stage.activate.is_empty() || !stage.deactivate.is_empty() || stage.k0 || stage.water.is_some();
         soil::deactivate(&mut state.soil, &stage.deactivate);
-        soil::activate(model, &setup, &mut state.soil, &stage.activate, &mut state.u);
+        let bar_nodes: Vec<usize> = stage.activate_bars.iter().flat_map(|&b| model.mesh.bars[b].nodes).collect();
+        soil::activate(model, &setup, &mut state.soil, &stage.activate, &bar_nodes, &mut state.u);
+        // placed reinforcement: its force counts from the stretch it lands with
+        for &b in &stage.activate_bars {
+            state.bars.absent[b] = false;
+            let law = &elements.bars[b];
+            state.bars.placed_stretch[b] = law.stretch(&state.u, &elements.blocks[law.block].0);
+        }
         if soil_changed {
             let water = stage.water.clone().unwrap_or_else(|| state.soil.water.clone());
             soil::set_water(model, &setup, &mut state.soil, water);
@@ -219,7 +231,7 @@ pub fn run(model: &Model, options: &RunOptions, sink: &mut dyn StepSink) -> Resu
             soil::set_k0(model, &setup, &mut state.soil, &state.u);
         }
         state.u_committed = state.u.clone();
-        let stage_held = with_absent_nodes(model, &state.soil, &held);
+        let stage_held = with_absent_nodes(model, &state.soil, &state.bars, &held);
         let dofs = DofMap::new(model.mesh.nodes.len(), &stage_held, &state.interfaces);
         let mut redundant = mark_redundant_rows(model, &mut state.interfaces, &dofs);
         // This stage's additions: its loads, and the change in the soil's weight (gravity switched
@@ -321,6 +333,7 @@ pub fn run(model: &Model, options: &RunOptions, sink: &mut dyn StepSink) -> Resu
                 state_changes: report.state_changes,
                 reassociations,
                 sliding_points: report.springs.iter().filter(|r| r.sliding).count(),
+                yielding_points: report.soil.yielding,
                 contact_points: report
                     .springs
                     .iter()
@@ -342,7 +355,7 @@ pub fn run(model: &Model, options: &RunOptions, sink: &mut dyn StepSink) -> Resu
 }
 
 /// `held` plus both DOFs of every node whose soil elements are all absent (and that no bar uses).
-fn with_absent_nodes(model: &Model, field: &soil::SoilField, held: &[bool]) -> Vec<bool> {
+fn with_absent_nodes(model: &Model, field: &soil::SoilField, bars: &system::BarStates, held: &[bool]) -> Vec<bool> {
     let mut held = held.to_vec();
     let present = soil::present_nodes(model, field);
     let mut in_soil = vec![false; present.len()];
@@ -362,6 +375,15 @@ fn with_absent_nodes(model: &Model, field: &soil::SoilField, held: &[bool]) -> V
             held[2 * n + 1] = true;
         }
     }
+    // the nodes of reinforcement not yet placed
+    for (i, b) in model.mesh.bars.iter().enumerate() {
+        if bars.absent[i] {
+            for &n in &b.nodes {
+                held[2 * n] = true;
+                held[2 * n + 1] = true;
+            }
+        }
+    }
     held
 }
 
@@ -379,7 +401,7 @@ fn stage_unbalance(
     let taus: Vec<f64> = springs.iter().map(|r| r.tau).collect();
     let trial = soil::evaluate(setup, &state.soil, &state.u, &state.u_committed, soil::Tangent::Elastic);
     let view = SoilView { field: &state.soil, trial: &trial };
-    let f_int = system::internal_force(elements, view, &rows, &taus, &state.ruptured, &state.u);
+    let f_int = system::internal_force(elements, view, &rows, &taus, &state.bars, &state.u);
     let f_c = system::constraint_force(&rows, &state.lambda, state.u.len());
     (0..state.u.len())
         .map(|d| if dofs.equation[d].is_some() { state.f_ext[d] - f_int[d] - f_c[d] } else { 0.0 })
@@ -550,7 +572,7 @@ fn nearly_parallel(a: &[(usize, f64)], b: &[(usize, f64)]) -> bool {
 /// Why an increment failed, before the stage and step are known.
 enum IncrementError {
     Solve(SolveError),
-    NotConverged { iterations: usize, residual: f64, reference: f64, unsettled: Vec<String> },
+    NotConverged { iterations: usize, residual: f64, reference: f64, unsettled: Vec<String>, yielding: usize },
 }
 
 impl IncrementError {
@@ -564,7 +586,7 @@ impl IncrementError {
             IncrementError::Solve(source) => {
                 Error::Solve { file: file.to_path_buf(), stage: stage.to_string(), step, source }
             }
-            IncrementError::NotConverged { iterations, residual, reference, unsettled } => Error::NotConverged {
+            IncrementError::NotConverged { iterations, residual, reference, unsettled, yielding } => Error::NotConverged {
                 file: file.to_path_buf(),
                 stage: stage.to_string(),
                 step,
@@ -572,11 +594,19 @@ impl IncrementError {
                 residual,
                 reference,
                 hint: format!(
-                    "after {cutbacks} cutbacks. {}Try more load factors in this stage, a larger max_iterations, or the newton scheme",
+                    "after {cutbacks} cutbacks. {}{}Try more load factors in this stage, a larger max_iterations, or the newton scheme",
                     if unsettled.is_empty() {
                         String::new()
                     } else {
                         format!("Interface points that kept changing state: {}. ", cap(unsettled).join("; "))
+                    },
+                    if yielding > 0 {
+                        format!(
+                            "{yielding} soil Gauss points were on the yield surface at the last iteration: the soil may be \
+                             collapsing (a limit load reached). "
+                        )
+                    } else {
+                        String::new()
                     }
                 ),
             },
@@ -758,7 +788,7 @@ fn equilibrium(
             &rows,
             stiffness,
             coupling.as_deref(),
-            &state.ruptured,
+            &state.bars,
             &state.interfaces,
             dofs,
             elements.typical_stiffness(),
@@ -888,6 +918,7 @@ fn equilibrium(
                 residual,
                 reference,
                 unsettled: Vec::new(),
+                yielding: soil_trial.yielding,
             });
         }
         let gaps = rows.gaps(&state.u);
@@ -913,10 +944,23 @@ fn equilibrium(
                 .into_iter()
                 .map(|(k, n)| format!("{} ({n} changes)", multiplier_name(model, &state.interfaces, dofs, k)))
                 .collect();
-            return Err(IncrementError::NotConverged { iterations: iteration, residual, reference, unsettled });
+            let yielding = soil_trial.yielding;
+            return Err(IncrementError::NotConverged {
+                iterations: iteration,
+                residual,
+                reference,
+                unsettled,
+                yielding,
+            });
         }
     }
-    Err(IncrementError::NotConverged { iterations: 0, residual: f64::NAN, reference: f64::NAN, unsettled: Vec::new() })
+    Err(IncrementError::NotConverged {
+        iterations: 0,
+        residual: f64::NAN,
+        reference: f64::NAN,
+        unsettled: Vec::new(),
+        yielding: 0,
+    })
 }
 
 /// A backtracking line search on the Newton correction of yielding soil: the step is halved (at
@@ -971,12 +1015,12 @@ fn rupture_bars(elements: &ElementMatrices, state: &mut State) -> Vec<String> {
     let mut changes = Vec::new();
     for (i, bar) in elements.bars.iter().enumerate() {
         let Some(t_ult) = bar.rupture_strength else { continue };
-        if state.ruptured[i] {
+        if state.bars.idle(i) {
             continue;
         }
-        let t = bar.elastic_force(&state.u, &elements.blocks[bar.block].0);
+        let t = bar.elastic_force(&state.u, &elements.blocks[bar.block].0, state.bars.stretch0(i));
         if t > t_ult {
-            state.ruptured[i] = true;
+            state.bars.ruptured[i] = true;
             changes.push(format!("bar {} ruptured: T = {t:.4} > T_ult = {t_ult}", bar.id));
         }
     }
@@ -1115,7 +1159,7 @@ fn iteration_system(
     let gaps = rows.gaps(&state.u);
     let taus: Vec<f64> = springs.iter().map(|r| r.tau).collect();
     let view = SoilView { field: &state.soil, trial: soil_trial };
-    let f_int = system::internal_force(elements, view, rows, &taus, &state.ruptured, &state.u);
+    let f_int = system::internal_force(elements, view, rows, &taus, &state.bars, &state.u);
     let f_c = system::constraint_force(rows, &state.lambda, n_dof);
     let mut rhs = vec![0.0; dofs.size()];
     for (d, eq) in dofs.equation.iter().enumerate() {
@@ -1149,7 +1193,7 @@ fn iteration_system(
             rows,
             spring_stiffness,
             spring_coupling,
-            &state.ruptured,
+            &state.bars,
             &state.interfaces,
             dofs,
             scale,
@@ -1189,7 +1233,7 @@ pub fn first_system(model: &Model) -> (usize, IterationSystem) {
         f_ext,
         u_committed: vec![0.0; dof_count],
         frozen_sigma_n: None,
-        ruptured: vec![false; model.mesh.bars.len()],
+        bars: system::BarStates::new(model.mesh.bars.len()),
         soil: soil::initial_field(model),
     };
     let rows = InterfaceRows::new(model, &state.interfaces, &dofs);
@@ -1214,7 +1258,7 @@ fn out_of_balance(
 ) -> (f64, f64) {
     let n_dof = state.u.len();
     let view = SoilView { field: &state.soil, trial: soil_trial };
-    let f_int = system::internal_force(elements, view, rows, taus, &state.ruptured, &state.u);
+    let f_int = system::internal_force(elements, view, rows, taus, &state.bars, &state.u);
     let f_c = system::constraint_force(rows, &state.lambda, n_dof);
     let mut r2 = 0.0;
     let mut reference2 = 0.0;

@@ -93,7 +93,7 @@ impl StepResults {
         let mesh = &model.mesh;
         let n_dof = state.u.len();
         let view = system::SoilView { field: &state.soil, trial: soil };
-        let f_int = system::internal_force(elements, view, rows, taus, &state.ruptured, &state.u);
+        let f_int = system::internal_force(elements, view, rows, taus, &state.bars, &state.u);
         let f_c = system::constraint_force(rows, &state.lambda, n_dof);
         let reaction_vector: Vec<f64> =
             (0..n_dof).map(|d| if held[d] { f_int[d] + f_c[d] - state.f_ext[d] } else { 0.0 }).collect();
@@ -123,10 +123,12 @@ impl StepResults {
                     bar: b.id,
                     nodes: [mesh.node_id(b.nodes[0]), mesh.node_id(b.nodes[1])],
                     midpoint: [0.5 * (a[0] + c[0]), 0.5 * (a[1] + c[1])],
-                    axial_force: law.force(&state.u, dl, state.ruptured[i]),
-                    state: if state.ruptured[i] {
+                    axial_force: law.force(&state.u, dl, &state.bars, i),
+                    state: if state.bars.ruptured[i] {
                         "ruptured"
-                    } else if law.slack(&state.u, dl, false) {
+                    } else if state.bars.absent[i] {
+                        "not placed"
+                    } else if law.slack(&state.u, dl, &state.bars, i) {
                         "slack"
                     } else {
                         "intact"

@@ -147,13 +147,24 @@ fn element_u(dofs: &[usize], u: &[f64]) -> Vec<f64> {
 /// Place soil elements: each starts stress-free on the deformed ground. A node that no present
 /// element used before takes the displacement of the nearest node that one did (the ground it is
 /// placed on), so that the new element's strains count from the deformed geometry.
-pub fn activate(model: &Model, setup: &SoilSetup, field: &mut SoilField, solids: &[usize], u: &mut [f64]) {
+///
+/// `bar_nodes` are the nodes of reinforcements placed with these elements: they land on the ground
+/// the same way.
+pub fn activate(
+    model: &Model,
+    setup: &SoilSetup,
+    field: &mut SoilField,
+    solids: &[usize],
+    bar_nodes: &[usize],
+    u: &mut [f64],
+) {
     let before = present_nodes(model, field);
     let old: Vec<usize> = (0..before.len()).filter(|&n| before[n]).collect();
     let mesh = &model.mesh;
     let mut moved = vec![false; before.len()];
-    for &s in solids {
-        for &n in &mesh.solids[s].nodes {
+    let new_nodes = solids.iter().flat_map(|&s| mesh.solids[s].nodes.iter().copied()).chain(bar_nodes.iter().copied());
+    {
+        for n in new_nodes {
             if before[n] || moved[n] {
                 continue;
             }

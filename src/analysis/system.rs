@@ -72,17 +72,46 @@ pub struct BarLaw {
     pub rupture_strength: Option<f64>,
 }
 
-impl BarLaw {
-    /// Elastic axial force T = EA/L·e·(u_b − u_a) (tension positive).
-    pub fn elastic_force(&self, u: &[f64], dofs: &[usize]) -> f64 {
-        self.axial_stiffness / self.length
-            * (self.axis[0] * (u[dofs[2]] - u[dofs[0]]) + self.axis[1] * (u[dofs[3]] - u[dofs[1]]))
+/// The state of every bar (in mesh order): ruptured, not yet placed, and the stretch it had when it
+/// was placed (its force counts from there).
+#[derive(Debug, Clone, Default)]
+pub struct BarStates {
+    pub ruptured: Vec<bool>,
+    pub absent: Vec<bool>,
+    pub placed_stretch: Vec<f64>,
+}
+
+impl BarStates {
+    pub fn new(count: usize) -> BarStates {
+        BarStates { ruptured: vec![false; count], absent: vec![false; count], placed_stretch: vec![0.0; count] }
     }
 
-    /// The force the bar carries: zero once ruptured, and never compressive when tension-only.
-    pub fn force(&self, u: &[f64], dofs: &[usize], ruptured: bool) -> f64 {
-        let t = self.elastic_force(u, dofs);
-        if ruptured || (self.tension_only && t < 0.0) {
+    /// A bar that carries nothing: ruptured or not placed.
+    pub fn idle(&self, i: usize) -> bool {
+        self.ruptured.get(i).copied().unwrap_or(false) || self.absent.get(i).copied().unwrap_or(false)
+    }
+
+    pub fn stretch0(&self, i: usize) -> f64 {
+        self.placed_stretch.get(i).copied().unwrap_or(0.0)
+    }
+}
+
+impl BarLaw {
+    /// Stretch e·(u_b − u_a) along the bar's axis.
+    pub fn stretch(&self, u: &[f64], dofs: &[usize]) -> f64 {
+        self.axis[0] * (u[dofs[2]] - u[dofs[0]]) + self.axis[1] * (u[dofs[3]] - u[dofs[1]])
+    }
+
+    /// Elastic axial force T = EA/L·(e·(u_b − u_a) − stretch at placement) (tension positive).
+    pub fn elastic_force(&self, u: &[f64], dofs: &[usize], stretch0: f64) -> f64 {
+        self.axial_stiffness / self.length * (self.stretch(u, dofs) - stretch0)
+    }
+
+    /// The force the bar carries: zero once ruptured or before it is placed, and never compressive
+    /// when tension-only.
+    pub fn force(&self, u: &[f64], dofs: &[usize], bars: &BarStates, i: usize) -> f64 {
+        let t = self.elastic_force(u, dofs, bars.stretch0(i));
+        if bars.idle(i) || (self.tension_only && t < 0.0) {
             0.0
         } else {
             t
@@ -90,8 +119,8 @@ impl BarLaw {
     }
 
     /// Whether the bar carries no stiffness in the current state.
-    pub fn slack(&self, u: &[f64], dofs: &[usize], ruptured: bool) -> bool {
-        ruptured || (self.tension_only && self.elastic_force(u, dofs) < 0.0)
+    pub fn slack(&self, u: &[f64], dofs: &[usize], bars: &BarStates, i: usize) -> bool {
+        bars.idle(i) || (self.tension_only && self.elastic_force(u, dofs, bars.stretch0(i)) < 0.0)
     }
 }
 
@@ -279,7 +308,7 @@ pub fn assemble(
     rows: &InterfaceRows,
     spring_stiffness: &[f64],
     spring_coupling: Option<&[f64]>,
-    ruptured: &[bool],
+    bars: &BarStates,
     interfaces: &[Interface],
     dofs: &DofMap,
     scale: f64,
@@ -297,8 +326,8 @@ pub fn assemble(
         } else {
             k
         };
-        // a ruptured bar keeps its place in the pattern with no stiffness
-        let factor = if b >= first_bar && ruptured.get(b - first_bar).copied().unwrap_or(false) { 0.0 } else { 1.0 };
+        // a ruptured or not yet placed bar keeps its place in the pattern with no stiffness
+        let factor = if b >= first_bar && bars.idle(b - first_bar) { 0.0 } else { 1.0 };
         for (a, &da) in dl.iter().enumerate() {
             let Some(ia) = eq(da) else { continue };
             for (b, &db) in dl.iter().enumerate() {
@@ -357,7 +386,7 @@ pub fn matrix_key(
     rows: &InterfaceRows,
     spring_stiffness: &[f64],
     spring_coupling: Option<&[f64]>,
-    ruptured: &[bool],
+    bars: &BarStates,
     interfaces: &[Interface],
     dofs: &DofMap,
     scale: f64,
@@ -380,7 +409,8 @@ pub fn matrix_key(
     for k in spring_stiffness.iter().chain(spring_coupling.unwrap_or(&[])) {
         k.to_bits().hash(&mut h);
     }
-    ruptured.hash(&mut h);
+    bars.ruptured.hash(&mut h);
+    bars.absent.hash(&mut h);
     for (state, tangent) in soil.field.elements.iter().zip(&soil.trial.tangents) {
         state.active.hash(&mut h);
         if let Some(k) = tangent {
@@ -403,7 +433,7 @@ pub fn internal_force(
     soil: SoilView<'_>,
     rows: &InterfaceRows,
     taus: &[f64],
-    ruptured: &[bool],
+    bars: &BarStates,
     u: &[f64],
 ) -> Vec<f64> {
     let first_bar = elements.bars.first().map(|b| b.block).unwrap_or(elements.blocks.len());
@@ -434,7 +464,7 @@ pub fn internal_force(
     });
     for (i, bar) in elements.bars.iter().enumerate() {
         let dl = &elements.blocks[bar.block].0;
-        let t = bar.force(u, dl, ruptured.get(i).copied().unwrap_or(false));
+        let t = bar.force(u, dl, bars, i);
         let e = bar.axis;
         f[dl[0]] -= t * e[0];
         f[dl[1]] -= t * e[1];

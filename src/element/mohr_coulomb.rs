@@ -67,6 +67,17 @@ impl YieldState {
         }
     }
 
+    /// The name written to the output.
+    pub fn name(self) -> &'static str {
+        match self {
+            YieldState::Elastic => "elastic",
+            YieldState::Shear => "shear",
+            YieldState::ShearEdge => "shear-edge",
+            YieldState::Tension => "tension",
+            YieldState::Apex => "apex",
+        }
+    }
+
     pub fn is_plastic(self) -> bool {
         self != YieldState::Elastic
     }

@@ -74,6 +74,8 @@ pub struct StagePlan {
     pub activate: Vec<usize>,
     /// Soil elements removed in this stage.
     pub deactivate: Vec<usize>,
+    /// Reinforcement bars (indices into `mesh.bars`) placed in this stage.
+    pub activate_bars: Vec<usize>,
     /// Set the K0 initial stresses at the start of this stage.
     pub k0: bool,
     /// A new water table from this stage on (`Some(None)`: no water).
@@ -260,6 +262,17 @@ impl Model {
         for s in &self.stages {
             for &e in &s.activate {
                 absent[e] = true;
+            }
+        }
+        absent
+    }
+
+    /// Bars absent at the start: those of the reinforcements a stage places.
+    pub fn initially_absent_bars(&self) -> Vec<bool> {
+        let mut absent = vec![false; self.mesh.bars.len()];
+        for s in &self.stages {
+            for &b in &s.activate_bars {
+                absent[b] = true;
             }
         }
         absent

@@ -442,6 +442,7 @@ pub(super) fn validate(source: &Path, file: &ModelFile) -> Result<Model, ModelEr
     }
     let mut stages = Vec::new();
     let mut placed: HashSet<usize> = HashSet::new();
+    let mut placed_bars: HashSet<usize> = HashSet::new();
     let mut stage_names = HashSet::new();
     for (k, s) in file.stages.iter().enumerate() {
         let field = format!("stages[{k}]");
@@ -521,16 +522,30 @@ pub(super) fn validate(source: &Path, file: &ModelFile) -> Result<Model, ModelEr
                 }
             }
         }
-        let sets = |names: &[String], key: &str, p: &mut Problems| -> Vec<usize> {
+        let sets = |names: &[String], key: &str, p: &mut Problems| -> (Vec<usize>, Vec<usize>) {
             let mut out = Vec::new();
+            let mut bars = Vec::new();
             for (j, name) in names.iter().enumerate() {
-                match element_sets.get(name) {
-                    Some(set) => out.extend(set.iter().copied()),
-                    None => p.push(
+                // a reinforcement interface by name: its bars
+                let reinforcement = node_sets.get(&format!("{name}.reinforcement")).filter(|_| key == "activate");
+                match (element_sets.get(name), reinforcement) {
+                    (Some(set), _) => out.extend(set.iter().copied()),
+                    (None, Some(nodes)) => {
+                        let nodes: HashSet<usize> = nodes.iter().copied().collect();
+                        bars.extend(
+                            mesh.bars
+                                .iter()
+                                .enumerate()
+                                .filter(|(_, b)| b.nodes.iter().all(|n| nodes.contains(n)))
+                                .map(|(i, _)| i),
+                        );
+                    }
+                    (None, None) => p.push(
                         format!("{field}.{key}[{j}]"),
                         &entity,
                         format!(
-                            "no element set named \"{name}\"{}",
+                            "no element set{} named \"{name}\"{}",
+                            if key == "activate" { " or reinforcement" } else { "" },
                             if element_sets.is_empty() {
                                 String::new()
                             } else {
@@ -540,10 +555,15 @@ pub(super) fn validate(source: &Path, file: &ModelFile) -> Result<Model, ModelEr
                     ),
                 }
             }
-            out
+            (out, bars)
         };
-        let activate = sets(&s.activate, "activate", &mut p);
-        let deactivate = sets(&s.deactivate, "deactivate", &mut p);
+        let (activate, activate_bars) = sets(&s.activate, "activate", &mut p);
+        let (deactivate, _) = sets(&s.deactivate, "deactivate", &mut p);
+        for &b in &activate_bars {
+            if !placed_bars.insert(b) {
+                p.push(format!("{field}.activate"), format!("bar {}", mesh.bars[b].id), "is placed twice");
+            }
+        }
         for &e in &activate {
             if !placed.insert(e) {
                 p.push(
@@ -583,6 +603,7 @@ pub(super) fn validate(source: &Path, file: &ModelFile) -> Result<Model, ModelEr
             prescribed,
             activate,
             deactivate,
+            activate_bars,
             k0: s.initial_stress == Some(InitialStress::K0),
             water,
         });

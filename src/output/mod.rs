@@ -78,6 +78,7 @@ pub struct ResultWriter {
     peak_displacement: Vec<f64>,
     slip_started: bool,
     all_sliding: bool,
+    soil_yielded: bool,
     /// Profiles along each reinforcement, per step, for the plots.
     profiles: Vec<StepProfile>,
     /// Steps worth plotting: where slip starts, where everything slides.
@@ -163,6 +164,7 @@ impl ResultWriter {
             targets,
             history: Vec::new(),
             slip_started: false,
+            soil_yielded: false,
             all_sliding: false,
             profiles: Vec::new(),
             marked_steps: Vec::new(),
@@ -349,6 +351,9 @@ impl ResultWriter {
                     format!("syy [{s}]"),
                     format!("sxy [{s}]"),
                     format!("szz [{s}]"),
+                    format!("pore_pressure [{s}]"),
+                    "yield".into(),
+                    "plastic_strain".into(),
                 ]),
                 r.stresses.iter().map(|e| {
                     vec![
@@ -360,6 +365,9 @@ impl ResultWriter {
                         num(e.stress[1]),
                         num(e.stress[2]),
                         num(e.stress[3]),
+                        num(e.pore_pressure),
+                        e.yield_state.name().to_string(),
+                        num(e.plastic_strain),
                     ]
                 }),
             ),
@@ -379,6 +387,13 @@ impl StepSink for ResultWriter {
             self.summary
                 .events
                 .push(format!("{when}: slip starts ({} interface points at their strength)", record.sliding_points));
+        }
+        if !self.soil_yielded && record.yielding_points > 0 {
+            self.soil_yielded = true;
+            self.summary.events.push(format!(
+                "{when}: the soil yields ({} Gauss points on the yield surface)",
+                record.yielding_points
+            ));
         }
         if !self.all_sliding && record.contact_points > 0 && record.sliding_points == record.contact_points {
             self.all_sliding = true;

@@ -129,13 +129,13 @@ pub fn markdown(
     }
 
     let _ = writeln!(r, "\n## Convergence history\n");
-    let _ = writeln!(r, "| stage | step | load factor | iterations | cutbacks | force residual | max ‖Ax−b‖/‖b‖ | sliding / in contact | state changes | re-associations |");
-    let _ = writeln!(r, "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
+    let _ = writeln!(r, "| stage | step | load factor | iterations | cutbacks | force residual | max ‖Ax−b‖/‖b‖ | sliding / in contact | yielding soil points | state changes | re-associations |");
+    let _ = writeln!(r, "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
     for s in &summary.steps {
         let lin = s.linear_residuals.iter().cloned().fold(0.0f64, f64::max);
         let _ = writeln!(
             r,
-            "| {} | {} | {:.4} | {} | {} | {:.1e} | {:.1e} | {} / {} | {} | {} |",
+            "| {} | {} | {:.4} | {} | {} | {:.1e} | {:.1e} | {} / {} | {} | {} | {} |",
             s.stage,
             s.step,
             s.load_factor,
@@ -145,6 +145,7 @@ pub fn markdown(
             lin,
             s.sliding_points,
             s.contact_points,
+            s.yielding_points,
             s.state_changes.len(),
             s.reassociations.len()
         );

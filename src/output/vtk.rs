@@ -134,14 +134,19 @@ impl VtkWriter {
 
     fn soil(&self, r: &StepResults, u: &[[f64; 2]]) -> UnstructuredGridPiece {
         let points = flat_points(self.node_x.iter().copied());
-        let (cells, types) = cells(self.soil_cells.iter().cloned());
         // Element averages of the Gauss-point stress and strain, as symmetric tensors (xx, yy, zz, xy, yz, xz).
         let row: HashMap<u64, usize> = self.soil_ids.iter().enumerate().map(|(i, &id)| (id, i)).collect();
         let mut stress = vec![[0.0; 6]; self.soil_ids.len()];
         let mut strain = vec![[0.0; 6]; self.soil_ids.len()];
         let mut count = vec![0usize; self.soil_ids.len()];
+        let mut pore = vec![0.0; self.soil_ids.len()];
+        let mut plastic = vec![0.0; self.soil_ids.len()];
+        let mut plastic_strain = vec![0.0; self.soil_ids.len()];
         for g in &r.stresses {
             let Some(&i) = row.get(&g.element) else { continue };
+            pore[i] += g.pore_pressure;
+            plastic[i] += if g.yield_state.is_plastic() { 1.0 } else { 0.0 };
+            plastic_strain[i] += g.plastic_strain;
             let s = g.stress;
             let e = g.strain;
             for (k, v) in [s[0], s[1], s[3], s[2], 0.0, 0.0].into_iter().enumerate() {
@@ -156,7 +161,21 @@ impl VtkWriter {
             let n = count[i].max(1) as f64;
             stress[i].iter_mut().for_each(|v| *v /= n);
             strain[i].iter_mut().for_each(|v| *v /= n);
+            pore[i] /= n;
+            plastic[i] /= n;
+            plastic_strain[i] /= n;
         }
+        // Only the soil present in this step (a lift not yet placed, or excavated soil, has no
+        // Gauss-point results): the grid of each step shows the soil as built so far.
+        let present: Vec<bool> = count.iter().map(|&c| c > 0).collect();
+        let keep = |i: &usize| present[*i];
+        let (cells, types) = cells((0..self.soil_ids.len()).filter(keep).map(|i| self.soil_cells[i].clone()));
+        let pick = |v: &[f64]| -> Vec<f64> { (0..v.len()).filter(keep).map(|i| v[i]).collect() };
+        let stress: Vec<[f64; 6]> = (0..stress.len()).filter(keep).map(|i| stress[i]).collect();
+        let strain: Vec<[f64; 6]> = (0..strain.len()).filter(keep).map(|i| strain[i]).collect();
+        let (pore, plastic, plastic_strain) = (pick(&pore), pick(&plastic), pick(&plastic_strain));
+        let material: Vec<_> = (0..self.soil_ids.len()).filter(keep).map(|i| self.soil_material[i]).collect();
+        let ids: Vec<_> = (0..self.soil_ids.len()).filter(keep).map(|i| self.soil_ids[i]).collect();
         UnstructuredGridPiece {
             points,
             cells: Cells { cell_verts: cells, types },
@@ -165,8 +184,11 @@ impl VtkWriter {
                 cell: vec![
                     Attribute::generic("stress", 6).with_data(stress.concat()),
                     Attribute::generic("strain", 6).with_data(strain.concat()),
-                    Attribute::scalars("material", 1).with_data(self.soil_material.clone()),
-                    Attribute::scalars("element_id", 1).with_data(self.soil_ids.clone()),
+                    Attribute::scalars("pore_pressure", 1).with_data(pore),
+                    Attribute::scalars("plastic_fraction", 1).with_data(plastic),
+                    Attribute::scalars("plastic_strain", 1).with_data(plastic_strain),
+                    Attribute::scalars("material", 1).with_data(material),
+                    Attribute::scalars("element_id", 1).with_data(ids),
                 ],
             },
         }
