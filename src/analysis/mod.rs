@@ -73,17 +73,43 @@ pub fn model_memory_estimate_mb(model: &Model) -> f64 {
 /// Receives each converged step as soon as it exists, so that a later failure never loses it.
 pub trait StepSink {
     fn step_done(&mut self, step: &StepResults, record: &StepRecord, stats: &SolverStats) -> Result<(), Error>;
+
+    /// The result of a strength-reduction stage, after its last step.
+    fn factor_of_safety(&mut self, _fs: &FactorOfSafety) -> Result<(), Error> {
+        Ok(())
+    }
+}
+
+/// The factor of safety found by a strength-reduction stage.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct FactorOfSafety {
+    pub stage: String,
+    /// FS: the largest strength reduction factor with equilibrium.
+    pub value: f64,
+    /// The smallest factor tried without equilibrium; `None` when every factor up to `max_factor`
+    /// found one (FS is then at least `value`).
+    pub failed_at: Option<f64>,
+    /// `interfaces` or `soil and interfaces`.
+    pub reduced: &'static str,
+    /// Every factor tried, and whether it found equilibrium.
+    pub trials: Vec<(f64, bool)>,
 }
 
 /// Keeps every converged step in memory (for tests and for programs that use geoslip as a library).
 #[derive(Debug, Default)]
 pub struct Collect {
     pub steps: Vec<(StepRecord, StepResults)>,
+    pub factors_of_safety: Vec<FactorOfSafety>,
 }
 
 impl StepSink for Collect {
     fn step_done(&mut self, step: &StepResults, record: &StepRecord, _: &SolverStats) -> Result<(), Error> {
         self.steps.push((record.clone(), step.clone()));
+        Ok(())
+    }
+
+    fn factor_of_safety(&mut self, fs: &FactorOfSafety) -> Result<(), Error> {
+        self.factors_of_safety.push(fs.clone());
         Ok(())
     }
 }
@@ -102,6 +128,8 @@ pub struct StepRecord {
     pub stage_index: usize,
     pub step: usize,
     pub load_factor: f64,
+    /// The strength reduction factor F of a strength-reduction stage (strengths divided by F).
+    pub strength_factor: Option<f64>,
     pub iterations: usize,
     /// How many times this increment was cut back before it converged.
     pub cutbacks: usize,
@@ -173,7 +201,7 @@ pub fn run(model: &Model, options: &RunOptions, sink: &mut dyn StepSink) -> Resu
         }
     }
     let elements = ElementMatrices::compute(model);
-    let setup = soil::SoilSetup::new(model);
+    let mut setup = soil::SoilSetup::new(model);
     let mut system =
         LinearSystem::new(options.backend, options.analysis.scheme != Scheme::Newton, &options.solver).map_err(
             |source| Error::Solve { file: model.source.clone(), stage: model.stages[0].name.clone(), step: 1, source },
@@ -192,12 +220,7 @@ pub fn run(model: &Model, options: &RunOptions, sink: &mut dyn StepSink) -> Resu
         },
         soil: soil::initial_field(model),
     };
-    let reserve = |interfaces: &mut [Interface]| {
-        if options.analysis.reassociation != ReassociationRule::None && options.analysis.reserved_segments > 0 {
-            crate::interface::reserve_windows(interfaces, options.analysis.reserved_segments);
-        }
-    };
-    reserve(&mut state.interfaces);
+    reserve_segments(options, &mut state.interfaces);
     let bar_only = bar_only_nodes(model);
     let mut held = vec![false; dof_count];
     for &(n, d) in &model.supports {
@@ -253,6 +276,25 @@ pub fn run(model: &Model, options: &RunOptions, sink: &mut dyn StepSink) -> Resu
         // internal force of the new configuration and ends at the applied loads.
         let unbalance =
             if soil_changed { stage_unbalance(model, &setup, &elements, &dofs, &state) } else { vec![0.0; dof_count] };
+        if let Some(reduction) = stage.strength_reduction {
+            let fs = strength_reduction(
+                model,
+                options,
+                &elements,
+                &mut setup,
+                &mut system,
+                &dofs,
+                &bar_only,
+                &held,
+                &mut state,
+                &mut redundant,
+                (stage, stage_index),
+                reduction,
+                sink,
+            )?;
+            sink.factor_of_safety(&fs)?;
+            continue;
+        }
         let u_start = state.u.clone();
         state.frozen_sigma_n = options.analysis.freeze_normal_stress.then(|| {
             let rows = InterfaceRows::new(model, &state.interfaces, &dofs);
@@ -285,65 +327,22 @@ pub fn run(model: &Model, options: &RunOptions, sink: &mut dyn StepSink) -> Resu
                     return Err(e.at(&model.source, &stage.name, step + 1, cutbacks));
                 }
             };
-            // Commit the increment: shear states and soil stresses, then the re-association for the
-            // next one.
-            commit(&mut state, &report.springs);
-            soil::commit(&mut state.soil, &report.soil);
             step += 1;
-            let output_started = Instant::now();
-            let rows = InterfaceRows::new(model, &state.interfaces, &dofs);
-            let taus: Vec<f64> = report.springs.iter().map(|r| r.tau).collect();
-            let sliding: Vec<bool> = report.springs.iter().map(|r| r.sliding).collect();
-            let results = StepResults::compute(model, &elements, &rows, &taus, &sliding, &state, &report.soil, &held);
-            let balance = results::reinforcement_balance(model, &results, &state);
-            system.stats.output_seconds += output_started.elapsed().as_secs_f64();
-            let search_started = Instant::now();
-            let mut reassociations = match options.analysis.reassociation {
-                ReassociationRule::None => Vec::new(),
-                rule => reassociate::reassociate(
-                    &model.mesh,
-                    &mut state.interfaces,
-                    &state.u,
-                    rule == ReassociationRule::NearestNode,
-                ),
-            };
-            if options.analysis.reassociation != ReassociationRule::None {
-                reassociations.extend(reassociate::uncover_slits(&model.mesh, &mut state.interfaces, &state.u));
-            }
-            reserve(&mut state.interfaces);
-            let redundant_now = redundant.clone();
-            if options.analysis.reassociation != ReassociationRule::None {
-                // new associations and clipped lengths can make two rows repeat each other (both
-                // faces tied to segments ending at one soil node, at a slit tip): find them again
-                redundant = mark_redundant_rows(model, &mut state.interfaces, &dofs);
-            }
-            system.stats.interface_seconds += search_started.elapsed().as_secs_f64();
-            state.u_committed = state.u.clone();
-            let record = StepRecord {
-                stage: stage.name.clone(),
-                stage_index,
-                step,
-                load_factor: target,
-                iterations: report.iterations,
-                cutbacks,
-                force_residual: report.force_residual,
-                linear_residuals: report.linear_residuals,
-                seconds: started.elapsed().as_secs_f64(),
-                redundant_rows: redundant_now,
-                state_changes: report.state_changes,
-                reassociations,
-                sliding_points: report.springs.iter().filter(|r| r.sliding).count(),
-                yielding_points: report.soil.yielding,
-                contact_points: report
-                    .springs
-                    .iter()
-                    .filter(|r| state.interfaces[r.interface].faces[r.face].points[r.point].in_contact())
-                    .count(),
-                balance,
-            };
-            let written = Instant::now();
-            sink.step_done(&results, &record, &system.stats)?;
-            system.stats.output_seconds += written.elapsed().as_secs_f64();
+            let increment =
+                Increment { stage, stage_index, step, load_factor: target, strength_factor: None, cutbacks, started };
+            complete_increment(
+                model,
+                options,
+                &elements,
+                &mut system,
+                &dofs,
+                &held,
+                &mut state,
+                report,
+                &mut redundant,
+                &increment,
+                sink,
+            )?;
             targets.remove(0);
             reached = target;
             if stage.load_factors.iter().any(|&f| (f - target).abs() < 1e-15) {
@@ -352,6 +351,193 @@ pub fn run(model: &Model, options: &RunOptions, sink: &mut dyn StepSink) -> Resu
         }
     }
     Ok(system.stats)
+}
+
+/// Where a converged increment sits in the run.
+struct Increment<'a> {
+    stage: &'a crate::model::StagePlan,
+    stage_index: usize,
+    step: usize,
+    load_factor: f64,
+    /// The strength reduction factor of a strength-reduction stage.
+    strength_factor: Option<f64>,
+    cutbacks: usize,
+    started: Instant,
+}
+
+/// Commit a converged increment (shear states and soil stresses), hand its results to the sink, and
+/// re-associate the interface points for the next one.
+#[allow(clippy::too_many_arguments)]
+fn complete_increment(
+    model: &Model,
+    options: &RunOptions,
+    elements: &ElementMatrices,
+    system: &mut LinearSystem,
+    dofs: &DofMap,
+    held: &[bool],
+    state: &mut State,
+    report: IncrementReport,
+    redundant: &mut Vec<String>,
+    at: &Increment<'_>,
+    sink: &mut dyn StepSink,
+) -> Result<(), Error> {
+    // Commit the increment: shear states and soil stresses, then the re-association for the
+    // next one.
+    commit(state, &report.springs);
+    soil::commit(&mut state.soil, &report.soil);
+    let output_started = Instant::now();
+    let rows = InterfaceRows::new(model, &state.interfaces, dofs);
+    let taus: Vec<f64> = report.springs.iter().map(|r| r.tau).collect();
+    let sliding: Vec<bool> = report.springs.iter().map(|r| r.sliding).collect();
+    let results = StepResults::compute(model, elements, &rows, &taus, &sliding, state, &report.soil, held);
+    let balance = results::reinforcement_balance(model, &results, state);
+    system.stats.output_seconds += output_started.elapsed().as_secs_f64();
+    let search_started = Instant::now();
+    let mut reassociations = match options.analysis.reassociation {
+        ReassociationRule::None => Vec::new(),
+        rule => reassociate::reassociate(
+            &model.mesh,
+            &mut state.interfaces,
+            &state.u,
+            rule == ReassociationRule::NearestNode,
+        ),
+    };
+    if options.analysis.reassociation != ReassociationRule::None {
+        reassociations.extend(reassociate::uncover_slits(&model.mesh, &mut state.interfaces, &state.u));
+    }
+    reserve_segments(options, &mut state.interfaces);
+    let redundant_now = redundant.clone();
+    if options.analysis.reassociation != ReassociationRule::None {
+        // new associations and clipped lengths can make two rows repeat each other (both
+        // faces tied to segments ending at one soil node, at a slit tip): find them again
+        *redundant = mark_redundant_rows(model, &mut state.interfaces, dofs);
+    }
+    system.stats.interface_seconds += search_started.elapsed().as_secs_f64();
+    state.u_committed = state.u.clone();
+    let record = StepRecord {
+        stage: at.stage.name.clone(),
+        stage_index: at.stage_index,
+        step: at.step,
+        load_factor: at.load_factor,
+        strength_factor: at.strength_factor,
+        iterations: report.iterations,
+        cutbacks: at.cutbacks,
+        force_residual: report.force_residual,
+        linear_residuals: report.linear_residuals,
+        seconds: at.started.elapsed().as_secs_f64(),
+        redundant_rows: redundant_now,
+        state_changes: report.state_changes,
+        reassociations,
+        sliding_points: report.springs.iter().filter(|r| r.sliding).count(),
+        yielding_points: report.soil.yielding,
+        contact_points: report
+            .springs
+            .iter()
+            .filter(|r| state.interfaces[r.interface].faces[r.face].points[r.point].in_contact())
+            .count(),
+        balance,
+    };
+    let written = Instant::now();
+    sink.step_done(&results, &record, &system.stats)?;
+    system.stats.output_seconds += written.elapsed().as_secs_f64();
+    Ok(())
+}
+
+/// The factor of safety by strength reduction (Griffiths & Lane, Géotechnique 49 (1999) 387–403;
+/// Dawson, Roth & Drescher, Géotechnique 49 (1999) 835–840): the strengths are divided by F, which
+/// rises from 1 (steps of 0.1, doubling) until an increment finds no equilibrium, and the bracket
+/// [F_safe, F_fail] is then halved until its width is `tolerance`·F_safe. Every F with equilibrium is
+/// a step of the stage (its `strength_factor`); a trial without equilibrium is undone. The laws are
+/// restored to full strength afterwards.
+#[allow(clippy::too_many_arguments)]
+fn strength_reduction(
+    model: &Model,
+    options: &RunOptions,
+    elements: &ElementMatrices,
+    setup: &mut soil::SoilSetup,
+    system: &mut LinearSystem,
+    dofs: &DofMap,
+    bar_only: &[bool],
+    held: &[bool],
+    state: &mut State,
+    redundant: &mut Vec<String>,
+    (stage, stage_index): (&crate::model::StagePlan, usize),
+    reduction: crate::model::StrengthReduction,
+    sink: &mut dyn StepSink,
+) -> Result<FactorOfSafety, Error> {
+    let interface_laws: Vec<crate::interface::ShearLaw> = state.interfaces.iter().map(|i| i.law.clone()).collect();
+    let soil_laws = setup.laws.clone();
+    let apply = |state: &mut State, setup: &mut soil::SoilSetup, factor: f64| {
+        for (interface, law) in state.interfaces.iter_mut().zip(&interface_laws) {
+            interface.law = law.reduced(factor);
+        }
+        if reduction.soil {
+            setup.laws = soil_laws.iter().map(|l| l.map(|l| l.reduced(factor))).collect();
+        }
+    };
+    let (mut safe, mut failed) = (1.0f64, None::<f64>);
+    let mut factor = 1.0;
+    let mut growth = 0.1;
+    let mut trials = Vec::new();
+    let mut step = 0;
+    loop {
+        let started = Instant::now();
+        let snapshot = state.clone();
+        apply(state, setup, factor);
+        match equilibrium(model, options, elements, setup, system, dofs, bar_only, state) {
+            Ok(report) => {
+                trials.push((factor, true));
+                safe = factor;
+                step += 1;
+                let at = Increment {
+                    stage,
+                    stage_index,
+                    step,
+                    load_factor: 1.0,
+                    strength_factor: Some(factor),
+                    cutbacks: 0,
+                    started,
+                };
+                complete_increment(model, options, elements, system, dofs, held, state, report, redundant, &at, sink)?;
+            }
+            Err(e) => {
+                *state = snapshot;
+                if factor == 1.0 {
+                    // not even the full strengths hold the model: that is a failure of the stages
+                    // before, not a factor of safety
+                    apply(state, setup, 1.0);
+                    return Err(e.at(&model.source, &stage.name, 1, 0));
+                }
+                trials.push((factor, false));
+                failed = Some(factor);
+            }
+        }
+        factor = match failed {
+            Some(f) if f - safe <= reduction.tolerance * safe => break,
+            Some(f) => 0.5 * (safe + f),
+            None if safe >= reduction.max_factor => break,
+            None => {
+                let next = (safe + growth).min(reduction.max_factor);
+                growth *= 2.0;
+                next
+            }
+        };
+    }
+    apply(state, setup, 1.0);
+    Ok(FactorOfSafety {
+        stage: stage.name.clone(),
+        value: safe,
+        failed_at: failed,
+        reduced: if reduction.soil { "soil and interfaces" } else { "interfaces" },
+        trials,
+    })
+}
+
+/// Reserve master segments around every interface point (see `AnalysisSettings::reserved_segments`).
+fn reserve_segments(options: &RunOptions, interfaces: &mut [Interface]) {
+    if options.analysis.reassociation != ReassociationRule::None && options.analysis.reserved_segments > 0 {
+        crate::interface::reserve_windows(interfaces, options.analysis.reserved_segments);
+    }
 }
 
 /// `held` plus both DOFs of every node whose soil elements are all absent (and that no bar uses).

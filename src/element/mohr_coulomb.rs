@@ -40,6 +40,22 @@ pub struct MohrCoulomb {
     pub tensile_strength: f64,
 }
 
+impl MohrCoulomb {
+    /// The law with c/F and tan φ/F (strength reduction); ψ is kept unless it exceeds the reduced
+    /// φ, and the tension cut-off stays below the reduced apex c·cot φ.
+    pub fn reduced(&self, factor: f64) -> MohrCoulomb {
+        let cohesion = self.cohesion / factor;
+        let friction_angle = (self.friction_angle.tan() / factor).atan();
+        let apex = if friction_angle > 0.0 { cohesion / friction_angle.tan() } else { f64::INFINITY };
+        MohrCoulomb {
+            cohesion,
+            friction_angle,
+            dilatancy_angle: self.dilatancy_angle.min(friction_angle),
+            tensile_strength: self.tensile_strength.min(apex),
+        }
+    }
+}
+
 /// Where a stress point sits after its update.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
 pub enum YieldState {

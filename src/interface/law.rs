@@ -94,6 +94,27 @@ impl ShearLaw {
         }
     }
 
+    /// The law with its strengths divided by `factor` (c/F and tan φ/F, peak and residual alike),
+    /// for the factor of safety by strength reduction. `tie` and `linear` have no strength.
+    pub fn reduced(&self, factor: f64) -> ShearLaw {
+        let mut law = self.clone();
+        match &mut law {
+            ShearLaw::Tie | ShearLaw::Linear { .. } => {}
+            ShearLaw::Coulomb { cohesion, tan_friction, .. } | ShearLaw::Hyperbolic { cohesion, tan_friction, .. } => {
+                *cohesion /= factor;
+                *tan_friction /= factor;
+            }
+            ShearLaw::PeakResidual { cohesion, tan_friction, residual_cohesion, residual_tan_friction, .. }
+            | ShearLaw::Softening { cohesion, tan_friction, residual_cohesion, residual_tan_friction, .. } => {
+                *cohesion /= factor;
+                *tan_friction /= factor;
+                *residual_cohesion /= factor;
+                *residual_tan_friction /= factor;
+            }
+        }
+        law
+    }
+
     /// Ks per face, the initial slope of every law but `tie`.
     pub fn shear_stiffness(&self) -> Option<f64> {
         match self {

@@ -442,7 +442,7 @@ pub enum ShearLawSpec {
 /// One stage of the loading history. Loads and prescribed displacements listed here are added to
 /// those of earlier stages and ramped in by `load_factors` (cumulative fractions of this stage's
 /// additions, ending at 1).
-#[derive(Debug, Clone, Default, Serialize, Deserialize, JsonSchema)]
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Stage {
     pub name: String,
@@ -472,6 +472,37 @@ pub struct Stage {
     /// interface strength use effective stress.
     #[serde(default)]
     pub water: Option<WaterTable>,
+    /// Make this stage a search for the factor of safety by strength reduction (it takes no loads):
+    /// the strengths are divided by a factor F, raised until no equilibrium exists.
+    #[serde(default)]
+    pub strength_reduction: Option<StrengthReductionSpec>,
+}
+
+/// The factor of safety by strength reduction: c and tan φ are divided by F (c/F, tan φ/F) in the
+/// interfaces (peak and residual) and, with `reduce = "soil-and-interfaces"`, in the Mohr–Coulomb
+/// soil too (as limit equilibrium assumes). F rises from 1 until no equilibrium is found, then the
+/// bracket is halved: FS is the largest F with equilibrium. The state at FS is the last step of the
+/// stage (the mechanism: which interfaces slip, the reinforcement forces); later stages go on from it
+/// with the full strengths.
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct StrengthReductionSpec {
+    pub reduce: ReducedStrengths,
+    /// Relative width of the final bracket [F_safe, F_fail] (default 0.002).
+    #[serde(default)]
+    pub tolerance: Option<f64>,
+    /// Stop searching above this factor (default 10).
+    #[serde(default)]
+    pub max_factor: Option<f64>,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "kebab-case")]
+pub enum ReducedStrengths {
+    /// The interfaces' strengths only.
+    Interfaces,
+    /// The soil's and the interfaces' strengths together.
+    SoilAndInterfaces,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
@@ -501,6 +532,23 @@ pub struct WaterTable {
 
 fn default_load_factors() -> Vec<f64> {
     vec![1.0]
+}
+
+impl Default for Stage {
+    /// An empty stage with one increment (the file's defaults).
+    fn default() -> Stage {
+        Stage {
+            name: String::new(),
+            load_factors: default_load_factors(),
+            loads: Vec::new(),
+            prescribed: Vec::new(),
+            activate: Vec::new(),
+            deactivate: Vec::new(),
+            initial_stress: None,
+            water: None,
+            strength_reduction: None,
+        }
+    }
 }
 
 #[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]

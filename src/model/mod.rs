@@ -80,6 +80,17 @@ pub struct StagePlan {
     pub k0: bool,
     /// A new water table from this stage on (`Some(None)`: no water).
     pub water: Option<Option<WaterTable>>,
+    /// A search for the factor of safety instead of a loading.
+    pub strength_reduction: Option<StrengthReduction>,
+}
+
+/// A checked strength-reduction stage.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StrengthReduction {
+    /// Reduce the soil's strength too, not only the interfaces'.
+    pub soil: bool,
+    pub tolerance: f64,
+    pub max_factor: f64,
 }
 
 /// A phreatic line and the unit weight of water: hydrostatic pore pressure p = γw·(h(x) − y) below

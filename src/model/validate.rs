@@ -596,8 +596,42 @@ pub(super) fn validate(source: &Path, file: &ModelFile) -> Result<Model, ModelEr
             }
             (!w.none && !line.is_empty()).then_some(super::WaterTable { line, unit_weight })
         });
+        let strength_reduction = s.strength_reduction.as_ref().map(|r| {
+            let rfield = format!("{field}.strength_reduction");
+            let tolerance = r.tolerance.unwrap_or(0.002);
+            let max_factor = r.max_factor.unwrap_or(10.0);
+            if !(tolerance > 0.0 && tolerance <= 0.1) {
+                p.push(format!("{rfield}.tolerance"), &entity, format!("must be in (0, 0.1], found {tolerance}"));
+            }
+            if !(max_factor > 1.0 && max_factor.is_finite()) {
+                p.push(
+                    format!("{rfield}.max_factor"),
+                    &entity,
+                    format!("must be a number above 1, found {max_factor}"),
+                );
+            }
+            let busy = !s.loads.is_empty()
+                || !s.prescribed.is_empty()
+                || !s.activate.is_empty()
+                || !s.deactivate.is_empty()
+                || s.water.is_some()
+                || s.initial_stress.is_some();
+            if busy {
+                p.push(
+                    &rfield,
+                    &entity,
+                    "a strength-reduction stage changes nothing but the strengths: move its loads, prescribed \
+                     displacements, activations, water and initial stresses to a stage before it",
+                );
+            }
+            if k == 0 {
+                p.push(&rfield, &entity, "a strength-reduction stage needs a stage before it that loads the model");
+            }
+            super::StrengthReduction { soil: r.reduce == ReducedStrengths::SoilAndInterfaces, tolerance, max_factor }
+        });
         stages.push(StagePlan {
             name: s.name.clone(),
+            strength_reduction,
             load_factors: lf.clone(),
             loads,
             prescribed,

@@ -121,6 +121,8 @@ pub struct RunSummary {
     /// What happened along the way: slip starting, the whole interface sliding, a drop of a
     /// prescribed target's reaction (softening, snap-back under displacement control, pull-out).
     pub events: Vec<String>,
+    /// Factors of safety found by strength-reduction stages.
+    pub factors_of_safety: Vec<crate::analysis::FactorOfSafety>,
     pub steps: Vec<StepRecord>,
     pub solver_stats: SolverStats,
     pub total_seconds: f64,
@@ -198,6 +200,7 @@ impl ResultWriter {
                 },
                 notes: model.notes.clone(),
                 events: Vec::new(),
+                factors_of_safety: Vec::new(),
                 steps: Vec::new(),
                 solver_stats: SolverStats::default(),
                 total_seconds: 0.0,
@@ -376,6 +379,19 @@ impl ResultWriter {
 }
 
 impl StepSink for ResultWriter {
+    fn factor_of_safety(&mut self, fs: &crate::analysis::FactorOfSafety) -> Result<(), Error> {
+        let bracket = match fs.failed_at {
+            Some(f) => format!("no equilibrium at F = {f:.4}"),
+            None => "equilibrium up to the largest factor tried: FS is at least this".to_string(),
+        };
+        self.summary.events.push(format!(
+            "stage \"{}\": factor of safety FS = {:.3} by strength reduction of the {} ({bracket})",
+            fs.stage, fs.value, fs.reduced
+        ));
+        self.summary.factors_of_safety.push(fs.clone());
+        self.write_summary()
+    }
+
     fn step_done(&mut self, results: &StepResults, record: &StepRecord, stats: &SolverStats) -> Result<(), Error> {
         let dir = self.step_dir(record);
         self.write_step_files(&dir, results)?;

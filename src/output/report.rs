@@ -97,6 +97,26 @@ pub fn markdown(
             }
         }
     }
+    for fs in &summary.factors_of_safety {
+        let _ = writeln!(
+            r,
+            "\n**Factor of safety** (stage \"{}\", strength reduction of the {}): **FS = {:.3}**{}. Factors tried: {}. The \
+             results of the stage's last step are the state at FS: the interface points sliding there and the \
+             reinforcement forces show the mechanism.",
+            fs.stage,
+            fs.reduced,
+            fs.value,
+            match fs.failed_at {
+                Some(f) => format!(" (no equilibrium at {f:.4})"),
+                None => " (at least: equilibrium at every factor tried)".to_string(),
+            },
+            fs.trials
+                .iter()
+                .map(|(f, ok)| format!("{f:.4} {}", if *ok { "✓" } else { "✗" }))
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+    }
     if let Some(last) = summary.steps.last() {
         for b in &last.balance {
             let _ = writeln!(
