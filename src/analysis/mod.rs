@@ -1083,7 +1083,13 @@ fn equilibrium(
         }
         let rows = InterfaceRows::new(model, &state.interfaces, dofs);
         let springs = evaluate_springs(state, &rows);
-        let mut changes = update_active_set(model, state, &rows, dofs, bar_only, characteristic, &mut flips);
+        let force_floor = state
+            .f_ext
+            .iter()
+            .fold(0.0f64, |m, f| m.max(f.abs()))
+            .max(1e-6 * elements.typical_stiffness() * characteristic);
+        let mut changes =
+            update_active_set(model, state, &rows, dofs, bar_only, characteristic, force_floor, &mut flips);
         changes.extend(rupture_bars(elements, state));
         system.stats.interface_seconds += t.elapsed().as_secs_f64();
         state_changes.extend(changes.iter().cloned());
@@ -1219,6 +1225,7 @@ const CHATTER_LIMIT: usize = 4;
 /// Release rows whose λ turned tensile, re-activate released rows whose gap closed, and hold the
 /// transverse DOF of a reinforcement node whose faces are all open (a 2-node bar has no transverse
 /// stiffness). Returns what changed.
+#[allow(clippy::too_many_arguments)]
 fn update_active_set(
     model: &Model,
     state: &mut State,
@@ -1226,10 +1233,14 @@ fn update_active_set(
     dofs: &DofMap,
     bar_only: &[bool],
     characteristic: f64,
+    force_floor: f64,
     flips: &mut HashMap<usize, usize>,
 ) -> Vec<String> {
     let gaps = rows.gaps(&state.u);
-    let lambda_scale = state.lambda.iter().fold(0.0f64, |m, l| m.max(l.abs())).max(f64::MIN_POSITIVE);
+    // The scale of a contact force: the largest multiplier, but never below the applied forces or
+    // a force that moves the soil by 10⁻⁶ of its size, so that multipliers that are zero up to
+    // round-off (a reinforcement turned off the axes, pulled along itself) are not taken for tension.
+    let lambda_scale = state.lambda.iter().fold(0.0f64, |m, l| m.max(l.abs())).max(force_floor).max(f64::MIN_POSITIVE);
     // Hysteresis bands: a row is released only when clearly tensile, re-activated only when the
     // faces clearly overlap, so states do not ping-pong on round-off.
     let release_below = -1e-4 * lambda_scale;
@@ -1288,7 +1299,15 @@ fn hold_free_reinforcement_nodes(model: &Model, state: &mut State, dofs: &DofMap
             let m = dofs.multipliers[k];
             state.interfaces[m.interface].faces[m.face].points[m.point].normal_state.clone()
         };
-        let any_active = ks.iter().any(|&k| matches!(st(k), NormalState::Active | NormalState::Redundant { .. }));
+        // a row carried by another counts only while its carrier holds (a carrier released in
+        // tension leaves the node free)
+        let holds = |k: usize| match st(k) {
+            NormalState::Active => true,
+            NormalState::Redundant { multiplier: Some(carrier), .. } => matches!(st(carrier), NormalState::Active),
+            NormalState::Redundant { multiplier: None, .. } => true,
+            _ => false,
+        };
+        let any_active = ks.iter().any(|&k| holds(k));
         let held: Vec<usize> = ks.iter().copied().filter(|&k| matches!(st(k), NormalState::Held { .. })).collect();
         if !any_active && held.is_empty() {
             if let Some(&k) = ks.iter().find(|&&k| matches!(st(k), NormalState::Released | NormalState::Outside)) {
