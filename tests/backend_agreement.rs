@@ -131,13 +131,7 @@ fn yielding_soil_agrees_on_every_backend() {
         vec![Stage {
             name: "push".into(),
             load_factors: vec![0.2, 0.4, 0.6, 0.8, 1.0],
-            prescribed: vec![PrescribedDisplacement {
-                node: None,
-                nodes: None,
-                set: Some("footing".into()),
-                ux: None,
-                uy: Some(-0.05),
-            }],
+            prescribed: vec![common::prescribed("footing", None, Some(-0.05))],
             ..Default::default()
         }],
         AnalysisSettings { scheme: Scheme::Newton, ..AnalysisSettings::default() },

@@ -32,19 +32,9 @@ const GAMMA_W: f64 = 10.0;
 
 fn layered_column(kind: SolidKind, k0_procedure: bool, water: bool) -> ModelFile {
     let lower = Block::new(kind, (0.0, 0.0), (1.0, 3.0), (1, 6), "lower", 1, 1);
-    // the upper block shares the lower block's top row: number it after, then merge that row
+    // the upper block shares the lower block's top row
     let upper = Block::new(kind, (0.0, 3.0), (1.0, 3.0), (1, 6), "upper", 10_000, 1_000);
-    let mut nodes = lower.nodes.clone();
-    let top_of_lower: Vec<u64> = lower.row_nodes(lower.ny);
-    let bottom_of_upper: Vec<u64> = upper.row_nodes(0);
-    let rename: BTreeMap<u64, u64> = bottom_of_upper.iter().copied().zip(top_of_lower.iter().copied()).collect();
-    nodes.extend(upper.nodes.iter().filter(|n| !rename.contains_key(&n.0)).cloned());
-    let mut elements = lower.elements.clone();
-    for e in &upper.elements {
-        let mut e = e.clone();
-        e.nodes = e.nodes.iter().map(|n| *rename.get(n).unwrap_or(n)).collect();
-        elements.push(e);
-    }
+    let (nodes, elements, rename) = common::stack(&lower, &upper);
     let mut sides = lower.column_nodes(0);
     sides.extend(lower.column_nodes(lower.nx));
     sides.extend(upper.column_nodes(0).into_iter().filter(|n| !rename.contains_key(n)));

@@ -52,35 +52,18 @@ fn backfill() -> (ModelFile, Vec<u64>) {
                 name: "K0".into(),
                 load_factors: vec![1.0],
                 loads: vec![LoadSpec::Gravity { factor: 1.0 }],
-                prescribed: vec![PrescribedDisplacement {
-                    node: None,
-                    nodes: None,
-                    set: Some("wall".into()),
-                    ux: Some(0.0),
-                    uy: None,
-                }],
+                prescribed: vec![common::prescribed("wall", Some(0.0), None)],
                 initial_stress: Some(InitialStress::K0),
                 ..Default::default()
             },
             Stage {
                 name: "wall moves away".into(),
                 load_factors: (1..=steps).map(|k| k as f64 / steps as f64).collect(),
-                prescribed: vec![PrescribedDisplacement {
-                    node: None,
-                    nodes: None,
-                    set: Some("wall".into()),
-                    ux: Some(-0.02),
-                    uy: None,
-                }],
+                prescribed: vec![common::prescribed("wall", Some(-0.02), None)],
                 ..Default::default()
             },
         ],
-        AnalysisSettings {
-            scheme: Scheme::Newton,
-            force_tolerance: 1e-8,
-            displacement_tolerance: 1e-8,
-            ..AnalysisSettings::default()
-        },
+        common::newton(1e-8),
     );
     (file, wall)
 }

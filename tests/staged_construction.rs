@@ -166,20 +166,12 @@ fn gravity_switched_on_at_once_ends_the_same() {
 fn a_lift_on_uneven_ground_starts_stress_free() {
     let ground = Block::new(SolidKind::Quad4, (0.0, 0.0), (4.0, 1.0), (4, 2), "soft", 1, 1);
     let lift = Block::new(SolidKind::Quad4, (0.0, 1.0), (4.0, 0.5), (4, 1), "weightless", 1_000, 100);
-    let rename: BTreeMap<u64, u64> = lift.row_nodes(0).into_iter().zip(ground.row_nodes(ground.ny)).collect();
-    let mut nodes = ground.nodes.clone();
-    nodes.extend(lift.nodes.iter().filter(|n| !rename.contains_key(&n.0)).cloned());
-    let mut elements = ground.elements.clone();
-    for (k, e) in elements.iter_mut().enumerate() {
+    let lift_ids: Vec<u64> = lift.elements.iter().map(|e| e.id).collect();
+    let (nodes, mut elements, _) = common::stack(&ground, &lift);
+    for (k, e) in elements.iter_mut().enumerate().take(ground.elements.len()) {
         if k % 4 >= 2 {
             e.material = "stiff".into();
         }
-    }
-    let lift_ids: Vec<u64> = lift.elements.iter().map(|e| e.id).collect();
-    for e in &lift.elements {
-        let mut e = e.clone();
-        e.nodes = e.nodes.iter().map(|n| *rename.get(n).unwrap_or(n)).collect();
-        elements.push(e);
     }
     let mut soil = BTreeMap::new();
     soil.insert("soft".into(), SoilMaterial::linear_elastic(2.0e3, 0.3, 20.0));
@@ -189,19 +181,14 @@ fn a_lift_on_uneven_ground_starts_stress_free() {
     node_sets.insert("base".into(), ground.row_nodes(0));
     let mut element_sets = BTreeMap::new();
     element_sets.insert("lift".into(), lift_ids.clone());
-    let file = ModelFile {
-        title: "lift on uneven ground".into(),
-        units: Units { length: LengthUnit::Metre, force: ForceUnit::Kilonewton },
-        materials: Materials { soil, reinforcement: BTreeMap::new() },
+    let mut file = common::soil_model(
+        "lift on uneven ground",
         nodes,
         elements,
-        bars: Vec::new(),
+        soil,
         node_sets,
-        edge_sets: BTreeMap::new(),
-        element_sets,
-        supports: vec![support("base", &[Direction::X, Direction::Y])],
-        interfaces: Vec::new(),
-        stages: vec![
+        vec![support("base", &[Direction::X, Direction::Y])],
+        vec![
             Stage {
                 name: "ground".into(),
                 load_factors: vec![1.0],
@@ -210,10 +197,9 @@ fn a_lift_on_uneven_ground_starts_stress_free() {
             },
             Stage { name: "lift".into(), load_factors: vec![1.0], activate: vec!["lift".into()], ..Default::default() },
         ],
-        analysis: AnalysisSettings::default(),
-        mesh: None,
-        series: None,
-    };
+        AnalysisSettings::default(),
+    );
+    file.element_sets = element_sets;
     let model = common::model(&file, "uneven.toml");
     let c = common::run(&model, Backend::Auto);
     let (before, after) = (&c.steps[0].1, &c.steps[1].1);

@@ -68,21 +68,10 @@ fn footing_model() -> (ModelFile, Vec<u64>) {
         vec![Stage {
             name: "push".into(),
             load_factors: (1..=steps).map(|k| k as f64 / steps as f64).collect(),
-            prescribed: vec![PrescribedDisplacement {
-                node: None,
-                nodes: None,
-                set: Some("footing".into()),
-                ux: None,
-                uy: Some(-0.12),
-            }],
+            prescribed: vec![common::prescribed("footing", None, Some(-0.12))],
             ..Default::default()
         }],
-        AnalysisSettings {
-            scheme: Scheme::Newton,
-            force_tolerance: 1e-8,
-            displacement_tolerance: 1e-8,
-            ..AnalysisSettings::default()
-        },
+        common::newton(1e-8),
     );
     (file, footing)
 }

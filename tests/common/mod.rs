@@ -62,3 +62,41 @@ pub fn soil_model(
         series: None,
     }
 }
+
+/// Two blocks stacked: `upper` sits on `lower`'s top row, whose nodes it takes over. Returns the
+/// nodes, the elements, and the renaming of `upper`'s bottom-row nodes.
+pub fn stack(
+    lower: &geoslip::meshgen::Block,
+    upper: &geoslip::meshgen::Block,
+) -> (
+    Vec<geoslip::model::file::NodeRow>,
+    Vec<geoslip::model::file::SolidElementRow>,
+    std::collections::BTreeMap<u64, u64>,
+) {
+    let rename: std::collections::BTreeMap<u64, u64> =
+        upper.row_nodes(0).into_iter().zip(lower.row_nodes(lower.ny)).collect();
+    let mut nodes = lower.nodes.clone();
+    nodes.extend(upper.nodes.iter().filter(|n| !rename.contains_key(&n.0)).cloned());
+    let mut elements = lower.elements.clone();
+    for e in &upper.elements {
+        let mut e = e.clone();
+        e.nodes = e.nodes.iter().map(|n| *rename.get(n).unwrap_or(n)).collect();
+        elements.push(e);
+    }
+    (nodes, elements, rename)
+}
+
+/// A prescribed displacement of a node set.
+pub fn prescribed(set: &str, ux: Option<f64>, uy: Option<f64>) -> geoslip::model::file::PrescribedDisplacement {
+    geoslip::model::file::PrescribedDisplacement { node: None, nodes: None, set: Some(set.into()), ux, uy }
+}
+
+/// Newton's method with the consistent tangent, to a relative tolerance on force and displacement.
+pub fn newton(tolerance: f64) -> geoslip::model::file::AnalysisSettings {
+    geoslip::model::file::AnalysisSettings {
+        scheme: geoslip::model::file::Scheme::Newton,
+        force_tolerance: tolerance,
+        displacement_tolerance: tolerance,
+        ..Default::default()
+    }
+}
