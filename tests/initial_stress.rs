@@ -53,19 +53,14 @@ fn layered_column(kind: SolidKind, k0_procedure: bool, water: bool) -> ModelFile
     let mut soil = BTreeMap::new();
     soil.insert("upper".into(), upper_soil);
     soil.insert("lower".into(), lower_soil);
-    ModelFile {
-        title: "level ground".into(),
-        units: Units { length: LengthUnit::Metre, force: ForceUnit::Kilonewton },
-        materials: Materials { soil, reinforcement: BTreeMap::new() },
+    common::soil_model(
+        "level ground",
         nodes,
         elements,
-        bars: Vec::new(),
+        soil,
         node_sets,
-        edge_sets: BTreeMap::new(),
-        element_sets: BTreeMap::new(),
-        supports: vec![support("base", &[Direction::X, Direction::Y]), support("sides", &[Direction::X])],
-        interfaces: Vec::new(),
-        stages: vec![Stage {
+        vec![support("base", &[Direction::X, Direction::Y]), support("sides", &[Direction::X])],
+        vec![Stage {
             name: "geostatic".into(),
             load_factors: vec![1.0],
             loads: vec![LoadSpec::Gravity { factor: 1.0 }],
@@ -78,10 +73,8 @@ fn layered_column(kind: SolidKind, k0_procedure: bool, water: bool) -> ModelFile
             }),
             ..Default::default()
         }],
-        analysis: AnalysisSettings { scheme: Scheme::Newton, ..AnalysisSettings::default() },
-        mesh: None,
-        series: None,
-    }
+        AnalysisSettings { scheme: Scheme::Newton, ..AnalysisSettings::default() },
+    )
 }
 
 /// Total vertical stress, pore pressure and K0 at height y of the layered column.

@@ -74,22 +74,19 @@ fn column(staged: bool) -> ModelFile {
             ..Default::default()
         }]
     };
-    ModelFile {
-        title: "fill built in lifts".into(),
-        units: Units { length: LengthUnit::Metre, force: ForceUnit::Kilonewton },
-        materials: Materials { soil, reinforcement: BTreeMap::new() },
-        nodes: block.nodes,
-        elements: block.elements,
-        bars: Vec::new(),
-        node_sets,
-        edge_sets: BTreeMap::new(),
-        element_sets,
-        supports: vec![support("base", &[Direction::X, Direction::Y]), support("sides", &[Direction::X])],
-        interfaces: Vec::new(),
-        stages,
-        analysis: AnalysisSettings::default(),
-        mesh: None,
-        series: None,
+    {
+        let mut file = common::soil_model(
+            "fill built in lifts",
+            block.nodes,
+            block.elements,
+            soil,
+            node_sets,
+            vec![support("base", &[Direction::X, Direction::Y]), support("sides", &[Direction::X])],
+            stages,
+            AnalysisSettings::default(),
+        );
+        file.element_sets = element_sets;
+        file
     }
 }
 

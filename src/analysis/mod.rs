@@ -908,6 +908,7 @@ fn equilibrium(
         Scheme::NewtonSymmetric => soil::Tangent::Symmetric,
         Scheme::ConstantStiffness => soil::Tangent::Elastic,
     };
+    let mut carried_soil: Option<soil::SoilTrial> = None;
     for iteration in 1..=options.analysis.max_iterations {
         system.stats.iterations += 1;
         let t = Instant::now();
@@ -921,7 +922,12 @@ fn equilibrium(
         // displacements strain only the elements next to them at first, and their tangent would
         // say nothing about the rest.
         let tangent = if iteration == 1 { soil::Tangent::Elastic } else { soil_tangent };
-        let soil_trial = soil::evaluate(setup, &state.soil, &state.u, &state.u_committed, tangent);
+        // The soil at this iterate was evaluated (with this tangent) to check the last iteration's
+        // residual: nothing since has moved the displacements.
+        let soil_trial = match carried_soil.take() {
+            Some(trial) => trial,
+            None => soil::evaluate(setup, &state.soil, &state.u, &state.u_committed, tangent),
+        };
         // Constant stiffness (the paper's Fig. 3): Ks·ℓ as the increment found it, kept while the
         // contact states stay, so the factorisation is reused and each iteration costs one solve.
         // Newton: the law's tangent at the current iterate.
@@ -1101,7 +1107,8 @@ fn equilibrium(
             || correction2.sqrt() <= options.analysis.displacement_tolerance * increment2.sqrt().max(f64::MIN_POSITIVE);
         let t = Instant::now();
         let taus: Vec<f64> = springs.iter().map(|r| r.tau).collect();
-        let soil_trial = soil::evaluate(setup, &state.soil, &state.u, &state.u_committed, soil::Tangent::Elastic);
+        // with the tangent the next iteration assembles (the forces do not depend on it)
+        let soil_trial = soil::evaluate(setup, &state.soil, &state.u, &state.u_committed, soil_tangent);
         let (residual, reference) = out_of_balance(elements, &soil_trial, &rows, &taus, state, dofs);
         system.stats.residual_seconds += t.elapsed().as_secs_f64();
         if !residual.is_finite() {
@@ -1145,6 +1152,7 @@ fn equilibrium(
                 yielding,
             });
         }
+        carried_soil = Some(soil_trial);
     }
     Err(IncrementError::NotConverged {
         iterations: 0,
