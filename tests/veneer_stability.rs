@@ -5,17 +5,17 @@
 //! FS = tan φ_i / tan β; a toe (passive wedge on the horizontal ground, resisting through the cover
 //! soil's own friction) adds to it, by the quadratic A·FS² + B·FS + C₀ = 0.
 //!
-//! Goal: the strength reduction of geoslip (c and tan φ divided by F in the interfaces) finds FS
-//! within 1 % of tan φ_i / tan β on a slope with no toe. (The two-wedge case with a toe is not yet
-//! verified: see docs/soil.md.)
+//! Goal: the strength reduction of geoslip finds FS within 1 % of tan φ_i / tan β on a slope with no
+//! toe (the interfaces reduced), and within 5 % of the two-wedge value with a toe at L/h = 15 and
+//! three slope angles (soil and interfaces reduced together, as limit equilibrium does).
 //!
 //! ```text
-//!   crest                       cover soil, thickness h (normal to the slope)
+//!   crest                       cover soil, thickness h (normal to the slope), Mohr–Coulomb
 //!     \\
 //!      \\  geomembrane interface (φ_i) on a rigid slope
 //!       \\
-//!        \\__________  toe: the cover continues on the horizontal ground (interface φ: the
-//!         O            passive wedge slides on soil-like friction)
+//!        O\    passive wedge O–P–T (P above O on the cover's surface), resting on the ground
+//!         O--T  O–T through an interface with the soil's own c and φ
 //! ```
 
 mod common;
@@ -30,64 +30,82 @@ const H: f64 = 0.5;
 /// enters the two-wedge formula as C = c·h/sin β).
 const COVER_COHESION: f64 = 1.0;
 
-/// A strip of cover soil of thickness `h` on a slope of angle `beta` and length `length` (along the
-/// slope, from the crest to the toe corner O at the origin), then on horizontal ground for `toe`,
-/// on rigid bases with interfaces: the slope's (φ_i) and the toe's (φ, the soil's own).
-fn lined_slope(beta_deg: f64, length: f64, toe: f64, phi_i: f64, phi_soil: f64, reduce: ReducedStrengths) -> ModelFile {
+/// Cover soil of thickness `h` on a slope of angle `beta` whose liner runs `length` along the slope
+/// from the crest to the toe corner O at the origin, on rigid bases with interfaces (the liner's φ_i;
+/// at the toe, the soil's own φ).
+///
+/// With `toe`, the cover's surface runs on down to the ground at T = (h / sin β, 0) as in the
+/// two-wedge method: the passive wedge is the triangle O, P = (0, h / cos β), T, resting on the
+/// horizontal ground O–T. Without it the cover ends at O with a face normal to the slope.
+fn lined_slope(beta_deg: f64, length: f64, toe: bool, phi_i: f64, phi_soil: f64, reduce: ReducedStrengths) -> ModelFile {
     let beta = beta_deg.to_radians();
     let (c, s) = (beta.cos(), beta.sin());
-    // down-slope unit vector (towards +x, downwards) and the outward normal of the slope surface
-    let down = [c, -s];
     let up_normal = [s, c];
     let crest = [-length * c, length * s];
-    // the corner of the cover's surface above O, where the offset slope line meets y = h:
-    // crest + h·n + t·down has y = h
-    let t = (crest[1] + H * up_normal[1] - H) / s;
-    let p = [crest[0] + H * up_normal[0] + t * down[0], H];
-    let n_slope = (length / H * 4.0).round() as usize; // elements along the slope
-    let n_toe = (toe / H * 4.0).round() as usize;
-    let m = 4; // elements through the thickness
     let top_crest = [crest[0] + H * up_normal[0], crest[1] + H * up_normal[1]];
-    let columns = n_slope + n_toe;
-    let column = |i: usize| -> ([f64; 2], [f64; 2]) {
-        if i <= n_slope {
+    // the top of the last slope column: above O (the two-wedge method's interwedge line) with a
+    // toe, else normal to the slope
+    let p = if toe { [0.0, H / c] } else { [H * up_normal[0], H * up_normal[1]] };
+    let t = [H / s, 0.0];
+    let n_slope = (length / H * 4.0).round() as usize; // elements along the slope
+    let n_toe = if toe { (H / s / H * 4.0).round().max(2.0) as usize } else { 0 };
+    let m = 4; // elements through the thickness
+    let mut nodes = Vec::new();
+    let slope_id = |i: usize, j: usize| (1 + j * (n_slope + 1) + i) as u64;
+    for j in 0..=m {
+        for i in 0..=n_slope {
             let a = i as f64 / n_slope as f64;
             let base = [crest[0] * (1.0 - a), crest[1] * (1.0 - a)];
             let top = [top_crest[0] + a * (p[0] - top_crest[0]), top_crest[1] + a * (p[1] - top_crest[1])];
-            (base, top)
-        } else {
-            let a = (i - n_slope) as f64 / n_toe as f64;
-            ([a * toe, 0.0], [p[0] + a * (toe - p[0]), H])
-        }
-    };
-    let mut nodes = Vec::new();
-    let id = |i: usize, j: usize| (1 + j * (columns + 1) + i) as u64;
-    for j in 0..=m {
-        for i in 0..=columns {
-            let (b, t) = column(i);
             let f = j as f64 / m as f64;
-            nodes.push(NodeRow(id(i, j), b[0] + f * (t[0] - b[0]), b[1] + f * (t[1] - b[1])));
+            nodes.push(NodeRow(slope_id(i, j), base[0] + f * (top[0] - base[0]), base[1] + f * (top[1] - base[1])));
         }
     }
     let mut elements = Vec::new();
+    let mut element = |kind: SolidKind, nodes: Vec<u64>| {
+        let id = elements.len() as u64 + 1;
+        elements.push(SolidElementRow { id, kind, nodes, material: "cover".into() });
+    };
     for j in 0..m {
-        for i in 0..columns {
-            elements.push(SolidElementRow {
-                id: (1 + j * columns + i) as u64,
-                kind: SolidKind::Quad4,
-                nodes: vec![id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)],
-                material: "cover".into(),
-            });
+        for i in 0..n_slope {
+            element(SolidKind::Quad4, vec![slope_id(i, j), slope_id(i + 1, j), slope_id(i + 1, j + 1), slope_id(i, j + 1)]);
         }
     }
-    // rigid bases: their own nodes, fixed, below the cover's base nodes
-    let base_id = |i: usize| 100_000 + i as u64;
-    for i in 0..=columns {
-        let (b, _) = column(i);
-        nodes.push(NodeRow(base_id(i), b[0], b[1]));
+    // the passive wedge: rays from the nodes on O–P to T, quads but for a last column of triangles
+    let toe_id = |i: usize, j: usize| match i {
+        0 => slope_id(n_slope, j),
+        i if i == n_toe => 50_000,
+        i => (50_001 + j * n_toe + i) as u64,
+    };
+    if toe {
+        nodes.push(NodeRow(50_000, t[0], t[1]));
+        for j in 0..=m {
+            let q = [0.0, j as f64 / m as f64 * p[1]];
+            for i in 1..n_toe {
+                let a = i as f64 / n_toe as f64;
+                nodes.push(NodeRow(toe_id(i, j), q[0] + a * (t[0] - q[0]), q[1] + a * (t[1] - q[1])));
+            }
+        }
+        for j in 0..m {
+            for i in 0..n_toe - 1 {
+                element(SolidKind::Quad4, vec![toe_id(i, j), toe_id(i + 1, j), toe_id(i + 1, j + 1), toe_id(i, j + 1)]);
+            }
+            element(SolidKind::Tri3, vec![toe_id(n_toe - 1, j), 50_000, toe_id(n_toe - 1, j + 1)]);
+        }
+    }
+    // rigid bases: their own nodes, fixed, under the cover's base nodes
+    let mut base_nodes: Vec<(u64, u64)> = (0..=n_slope).map(|i| (slope_id(i, 0), 100_000 + i as u64)).collect();
+    let toe_base: Vec<(u64, u64)> = (0..=n_toe).map(|i| (toe_id(i, 0), 200_000 + i as u64)).collect();
+    if toe {
+        base_nodes.extend(toe_base.iter().copied());
+    }
+    let position: BTreeMap<u64, (f64, f64)> = nodes.iter().map(|n| (n.0, (n.1, n.2))).collect();
+    for &(cover, base) in &base_nodes {
+        let (x, y) = position[&cover];
+        nodes.push(NodeRow(base, x, y));
     }
     let mut node_sets = BTreeMap::new();
-    node_sets.insert("bases".into(), (0..=columns).map(base_id).collect::<Vec<_>>());
+    node_sets.insert("bases".into(), base_nodes.iter().map(|b| b.1).collect::<Vec<_>>());
     // ν = 0.4: the one-dimensional state on the slope stays inside the Mohr–Coulomb surface
     let mut cover = SoilMaterial::linear_elastic(2.0e4, 0.4, GAMMA);
     if reduce == ReducedStrengths::SoilAndInterfaces {
@@ -102,19 +120,20 @@ fn lined_slope(beta_deg: f64, length: f64, toe: f64, phi_i: f64, phi_soil: f64, 
     let mut interfaces = vec![InterfaceSpec {
         name: "geomembrane".into(),
         reinforcement: None,
-        slave: Some((0..=n_slope).rev().map(|i| id(i, 0)).collect()),
-        master: Some((0..=n_slope).rev().map(base_id).collect()),
+        slave: Some((0..=n_slope).rev().map(|i| base_nodes[i].0).collect()),
+        master: Some((0..=n_slope).rev().map(|i| base_nodes[i].1).collect()),
         master_normal: Some([-up_normal[0], -up_normal[1]]),
         law: coulomb(phi_i),
     }];
-    if n_toe > 0 {
+    if toe {
         interfaces.push(InterfaceSpec {
             name: "toe".into(),
             reinforcement: None,
-            slave: Some((n_slope..=columns).rev().map(|i| id(i, 0)).collect()),
-            master: Some((n_slope..=columns).rev().map(base_id).collect()),
+            slave: Some(toe_base.iter().rev().map(|b| b.0).collect()),
+            master: Some(toe_base.iter().rev().map(|b| b.1).collect()),
             master_normal: Some([0.0, -1.0]),
-            law: coulomb(phi_soil),
+            // the cohesion of the two-wedge method's passive wedge base, C = c·h / sin β
+            law: ShearLawSpec::Coulomb { shear_stiffness: 5.0e4, cohesion: COVER_COHESION, friction_angle: phi_soil },
         });
     }
     let mut file = common::soil_model(
@@ -149,6 +168,23 @@ fn lined_slope(beta_deg: f64, length: f64, toe: f64, phi_i: f64, phi_soil: f64, 
     file
 }
 
+/// The two-wedge factor of safety (closed-forms.md §7) with a geosynthetic force `t` parallel to
+/// the slope; `c_a` = 0 (the liner interface has no adhesion).
+fn two_wedge(beta_deg: f64, length: f64, phi_i: f64, phi: f64, t: f64) -> f64 {
+    let b = beta_deg.to_radians();
+    let (sb, cb) = (b.sin(), b.cos());
+    let w_a = GAMMA * H * H * (length / H - 1.0 / sb - b.tan() / 2.0);
+    let n_a = w_a * cb;
+    let w_p = GAMMA * H * H / (2.0 * b).sin();
+    let cover_c = COVER_COHESION * H / sb;
+    let (tan_phi, tan_phi_i) = (phi.to_radians().tan(), phi_i.to_radians().tan());
+    let x = w_a - n_a * cb - t * sb;
+    let a = x * cb;
+    let bq = -(x * sb * tan_phi + n_a * tan_phi_i * sb * cb + sb * (cover_c + w_p * tan_phi));
+    let c0 = n_a * tan_phi_i * sb * sb * tan_phi;
+    (-bq + (bq * bq - 4.0 * a * c0).sqrt()) / (2.0 * a)
+}
+
 fn factor_of_safety(file: &ModelFile) -> f64 {
     let model = common::model(file, "lined-slope.toml");
     let c = common::run(&model, Backend::Auto);
@@ -161,6 +197,31 @@ fn factor_of_safety(file: &ModelFile) -> f64 {
 fn a_long_slope_with_no_toe_has_the_infinite_slope_factor_of_safety() {
     let (beta, phi_i): (f64, f64) = (18.43, 24.0);
     let exact = phi_i.to_radians().tan() / beta.to_radians().tan();
-    let fs = factor_of_safety(&lined_slope(beta, 15.0 * H, 0.0, phi_i, 35.0, ReducedStrengths::Interfaces));
+    let fs = factor_of_safety(&lined_slope(beta, 15.0 * H, false, phi_i, 35.0, ReducedStrengths::Interfaces));
     assert!(common::relative_error(fs, exact) < 0.01, "FS {fs:.4} against tan φ_i / tan β = {exact:.4}");
+}
+
+/// The two-wedge method's L runs h / sin β past the toe corner O (its active wedge rests on
+/// L − h/sin β of liner, its weight γh²(L/h − 1/sin β − tan β/2) is that of the cover above the liner
+/// up to the vertical through O): the liner of the finite-element model is that shorter length.
+fn liner_length(beta_deg: f64, two_wedge_length: f64) -> f64 {
+    two_wedge_length - H / beta_deg.to_radians().sin()
+}
+
+/// L/h = 15, where the toe adds 25–40 % to tan φ_i / tan β: three slope angles, 3H:1V to 2H:1V.
+#[test]
+fn a_toe_gives_the_two_wedge_factor_of_safety_at_three_slope_angles() {
+    let (phi_i, phi): (f64, f64) = (24.0, 35.0);
+    let length = 15.0 * H;
+    for beta in [18.43f64, 21.8, 26.57] {
+        let no_toe = phi_i.to_radians().tan() / f64::to_radians(beta).tan();
+        let exact = two_wedge(beta, length, phi_i, phi, 0.0);
+        assert!(exact > 1.2 * no_toe, "at this L/h the toe must matter: {exact} against {no_toe}");
+        let model = lined_slope(beta, liner_length(beta, length), true, phi_i, phi, ReducedStrengths::SoilAndInterfaces);
+        let fs = factor_of_safety(&model);
+        assert!(
+            common::relative_error(fs, exact) < 0.05,
+            "β = {beta}°: FS {fs:.4} against the two-wedge {exact:.4} (no toe: {no_toe:.4})"
+        );
+    }
 }
