@@ -99,11 +99,12 @@ fn paper_block() -> ModelFile {
         supports: vec![support("base", &[Direction::X, Direction::Y]), support("sides", &[Direction::X])],
         interfaces: vec![InterfaceSpec {
             name: "reinforcement".into(),
-            reinforcement: Some(ReinforcementPath { path, line: None, head: None, material: "geosynthetic".into() }),
+            reinforcement: Some(ReinforcementPath { path, line: None, head: None, material: "geosynthetic".into(), stack: Vec::new() }),
             slave: None,
             master: None,
             master_normal: None,
             law: ShearLawSpec::Linear { shear_stiffness: 10.0 },
+            lower_law: None,
         }],
         stages: vec![
             Stage {

@@ -32,7 +32,7 @@ pub fn multipliers(interfaces: &[Interface]) -> Vec<MultiplierRef> {
         for (f, face) in interface.faces.iter().enumerate() {
             for p in 0..face.points.len() {
                 out.push(MultiplierRef { interface: i, face: f, point: p, tangential: false });
-                if interface.law.is_tie() {
+                if interface.is_tie() {
                     out.push(MultiplierRef { interface: i, face: f, point: p, tangential: true });
                 }
             }

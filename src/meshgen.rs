@@ -275,11 +275,13 @@ impl PullOutBox {
                         line: None,
                         head: None,
                         material: "grid".into(),
+                        stack: Vec::new(),
                     }),
                     slave: None,
                     master: None,
                     master_normal: None,
                     law: self.law.clone(),
+                    lower_law: None,
                 })
                 .collect(),
             stages: vec![

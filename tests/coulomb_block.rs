@@ -63,6 +63,7 @@ fn block_on_base(d: f64) -> ModelFile {
             master: Some(base),
             master_normal: Some([0.0, -1.0]),
             law: ShearLawSpec::Coulomb { shear_stiffness: KS, cohesion: C, friction_angle: 30.0 },
+            lower_law: None,
         }],
         stages: vec![
             Stage {

@@ -66,6 +66,7 @@ fn stacked_blocks(kind: SolidKind, nx: usize) -> ModelFile {
             master: Some(lower.row_nodes(2)),
             master_normal: None,
             law: ShearLawSpec::Tie,
+            lower_law: None,
         }],
         stages: vec![Stage {
             name: "compress".into(),

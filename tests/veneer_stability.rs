@@ -124,6 +124,7 @@ fn lined_slope(beta_deg: f64, length: f64, toe: bool, phi_i: f64, phi_soil: f64,
         master: Some((0..=n_slope).rev().map(|i| base_nodes[i].1).collect()),
         master_normal: Some([-up_normal[0], -up_normal[1]]),
         law: coulomb(phi_i),
+        lower_law: None,
     }];
     if toe {
         interfaces.push(InterfaceSpec {
@@ -134,6 +135,7 @@ fn lined_slope(beta_deg: f64, length: f64, toe: bool, phi_i: f64, phi_soil: f64,
             master_normal: Some([0.0, -1.0]),
             // the cohesion of the two-wedge method's passive wedge base, C = c·h / sin β
             law: ShearLawSpec::Coulomb { shear_stiffness: 5.0e4, cohesion: COVER_COHESION, friction_angle: phi_soil },
+            lower_law: None,
         });
     }
     let mut file = common::soil_model(

@@ -465,11 +465,12 @@ fn strength_reduction(
     reduction: crate::model::StrengthReduction,
     sink: &mut dyn StepSink,
 ) -> Result<FactorOfSafety, Error> {
-    let interface_laws: Vec<crate::interface::ShearLaw> = state.interfaces.iter().map(|i| i.law.clone()).collect();
+    let face_laws: Vec<crate::interface::ShearLaw> =
+        state.interfaces.iter().flat_map(|i| i.faces.iter().map(|f| f.law.clone())).collect();
     let soil_laws = setup.laws.clone();
     let apply = |state: &mut State, setup: &mut soil::SoilSetup, factor: f64| {
-        for (interface, law) in state.interfaces.iter_mut().zip(&interface_laws) {
-            interface.law = law.reduced(factor);
+        for (face, law) in state.interfaces.iter_mut().flat_map(|i| i.faces.iter_mut()).zip(&face_laws) {
+            face.law = law.reduced(factor);
         }
         if reduction.soil {
             setup.laws = soil_laws.iter().map(|l| l.map(|l| l.reduced(factor))).collect();
@@ -861,7 +862,7 @@ fn evaluate_springs(state: &State, rows: &InterfaceRows) -> Vec<SpringResult> {
                 None => sigma_n,
             };
             let response = if p.in_contact() {
-                interface.law.response(&p.shear, slip, sigma_n)
+                interface.faces[s.face].law.response(&p.shear, slip, sigma_n)
             } else {
                 // Out of contact: no shear; the slip goes on accumulating and restarts elastic.
                 let mut st = p.shear.clone();
@@ -948,7 +949,7 @@ fn equilibrium(
                     if !in_contact {
                         return 0.0;
                     }
-                    let ks = state.interfaces[s.interface].law.shear_stiffness().unwrap_or(0.0);
+                    let ks = state.interfaces[s.interface].faces[s.face].law.shear_stiffness().unwrap_or(0.0);
                     let k = match options.analysis.scheme {
                         Scheme::ConstantStiffness => ks,
                         Scheme::Newton | Scheme::NewtonSymmetric => r.response.tangent.max(0.0),
@@ -1255,7 +1256,7 @@ fn update_active_set(
     let close_above = 1e-6 * characteristic;
     let mut changes = Vec::new();
     for (k, m) in dofs.multipliers.iter().enumerate() {
-        if m.tangential || state.interfaces[m.interface].law.is_tie() {
+        if m.tangential || state.interfaces[m.interface].is_tie() {
             continue;
         }
         let p = &mut state.interfaces[m.interface].faces[m.face].points[m.point];
@@ -1455,7 +1456,7 @@ pub fn first_system(model: &Model) -> (usize, IterationSystem) {
     let stiffness: Vec<f64> = rows
         .springs
         .iter()
-        .map(|s| state.interfaces[s.interface].law.shear_stiffness().unwrap_or(0.0) * s.tributary)
+        .map(|s| state.interfaces[s.interface].faces[s.face].law.shear_stiffness().unwrap_or(0.0) * s.tributary)
         .collect();
     (dofs.size(), iteration_system(&elements, &soil_trial, &rows, &springs, &stiffness, None, &dofs, &state, true))
 }

@@ -96,7 +96,7 @@ fn path_length(mesh: &Mesh, u: &[f64], path: &[NodeIndex]) -> f64 {
 pub fn reassociate(mesh: &Mesh, interfaces: &mut [Interface], u: &[f64], nearest_node: bool) -> Vec<Reassociation> {
     let mut log = Vec::new();
     for interface in interfaces.iter_mut() {
-        if interface.law.is_tie() {
+        if interface.is_tie() {
             continue; // a tie does not slide
         }
         let name = interface.name.clone();
@@ -190,7 +190,7 @@ fn reassociate_face(
 /// slides, and the resistance must follow it within the increment, not one increment late).
 pub fn clip_tributaries(mesh: &Mesh, interfaces: &mut [Interface], u: &[f64]) {
     for interface in interfaces.iter_mut() {
-        if interface.law.is_tie() {
+        if interface.is_tie() {
             continue;
         }
         for face in interface.faces.iter_mut() {

@@ -146,7 +146,7 @@ impl StepResults {
                 for point in &face.points {
                     let lambda = state.lambda[k];
                     k += 1;
-                    let (tau, sliding) = match &interface.law {
+                    let (tau, sliding) = match &face.law {
                         ShearLaw::Tie => {
                             let lt = state.lambda[k];
                             k += 1;
@@ -160,7 +160,7 @@ impl StepResults {
                             )
                         }
                     };
-                    let slip = if interface.law.is_tie() {
+                    let slip = if interface.is_tie() {
                         system::row_dofs(&face.tangential_row(point)).iter().map(|&(d, c)| c * state.u[d]).sum()
                     } else {
                         point.shear.slip
@@ -240,7 +240,7 @@ pub fn reinforcement_balance(model: &Model, results: &StepResults, state: &State
                 carried[0] -= lambda * n[0];
                 carried[1] -= lambda * n[1];
                 let t = point.tangent;
-                let shear_force = if interface.law.is_tie() {
+                let shear_force = if interface.is_tie() {
                     let lt = state.lambda[k];
                     k += 1;
                     lt

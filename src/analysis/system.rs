@@ -253,7 +253,7 @@ impl InterfaceRows {
         }
         let mut springs = Vec::new();
         for (i, interface) in interfaces.iter().enumerate() {
-            if interface.law.shear_stiffness().is_some() {
+            if !interface.is_tie() {
                 for (f, face) in interface.faces.iter().enumerate() {
                     for (p, point) in face.points.iter().enumerate() {
                         springs.push(Spring {

@@ -85,7 +85,24 @@ fn points_on(mesh: &Mesh, face_master: &[NodeIndex], slave: &[NodeIndex]) -> Vec
         .collect()
 }
 
+/// The geosynthetics laid along one reinforcement path and the laws of their contacts.
+#[derive(Debug, Clone)]
+pub struct Stack {
+    /// Layers from the bottom up: (name, reinforcement material). The first is the interface's own.
+    pub layers: Vec<(String, usize)>,
+    /// The soil above against the top layer.
+    pub upper: ShearLaw,
+    /// The bottom layer against the soil below.
+    pub lower: ShearLaw,
+    /// `between[k]`: layer k + 1 sliding on layer k.
+    pub between: Vec<ShearLaw>,
+}
+
 /// Split the soil along `path` (head on the front face first) and create the reinforcement.
+///
+/// A stack of geosynthetics gets one set of bars per layer at the same positions: the soil above
+/// bears on the top layer, each layer on the one below it (a face whose master is that layer's
+/// bars), and the bottom layer on the soil below.
 ///
 /// The path's nodes are doubled from the head to the tail; the tail is doubled only when it lies on
 /// the mesh boundary (otherwise the slit ends there, and both faces meet at the tail node). The soil
@@ -96,8 +113,7 @@ pub fn split_reinforcement(
     sides: &SideMap,
     name: &str,
     path_ids: &[u64],
-    material: usize,
-    law: ShearLaw,
+    stack: &Stack,
     next_bar_id: &mut u64,
     field: &str,
     problems: &mut Problems,
@@ -215,16 +231,22 @@ pub fn split_reinforcement(
         }
     }
 
-    // Reinforcement nodes and bars.
-    let mut bar_nodes = Vec::with_capacity(path.len());
-    for &p in &path {
-        bar_nodes.push(mesh.add_node(next_id, mesh.position(p)));
-        next_id += 1;
+    // Reinforcement nodes and bars, layer by layer from the bottom up.
+    let mut layer_nodes: Vec<Vec<NodeIndex>> = Vec::with_capacity(stack.layers.len());
+    for (_, material) in &stack.layers {
+        let mut nodes = Vec::with_capacity(path.len());
+        for &p in &path {
+            nodes.push(mesh.add_node(next_id, mesh.position(p)));
+            next_id += 1;
+        }
+        for k in 0..tail {
+            mesh.bars.push(Bar { id: *next_bar_id, nodes: [nodes[k], nodes[k + 1]], material: *material });
+            *next_bar_id += 1;
+        }
+        layer_nodes.push(nodes);
     }
-    for k in 0..tail {
-        mesh.bars.push(Bar { id: *next_bar_id, nodes: [bar_nodes[k], bar_nodes[k + 1]], material });
-        *next_bar_id += 1;
-    }
+    let bottom = layer_nodes[0].clone();
+    let top = layer_nodes[layer_nodes.len() - 1].clone();
 
     // The face whose soil is on the left of head → tail is "upper" when that side is up.
     let d = unit(sub(mesh.position(path[1]), mesh.position(path[0])));
@@ -232,29 +254,39 @@ pub fn split_reinforcement(
     let left_is_upper = left_normal[1] > 1e-12 || (left_normal[1].abs() <= 1e-12 && left_normal[0] < 0.0);
     let left_master = path.clone();
     let right_master: Vec<NodeIndex> = path.iter().map(|p| *record.twins.get(p).unwrap_or(p)).collect();
-    let (left_label, right_label) = if left_is_upper { ("upper", "lower") } else { ("lower", "upper") };
-    let mut faces = vec![
-        ContactFace {
-            label: left_label.into(),
-            points: points_on(mesh, &left_master, &bar_nodes),
-            master: left_master,
-            soil_on_left: true,
+    // the upper soil bears on the top layer, the bottom layer on the lower soil
+    let (upper_master, lower_master) = if left_is_upper { (left_master, right_master) } else { (right_master, left_master) };
+    let mut faces = vec![ContactFace {
+        label: "upper".into(),
+        points: points_on(mesh, &upper_master, &top),
+        master: upper_master,
+        soil_on_left: left_is_upper,
+        fixed_normal: None,
+        law: stack.upper.clone(),
+    }];
+    for (k, law) in stack.between.iter().enumerate() {
+        // layer k + 1 on layer k: the normal points from it into layer k, on the lower side
+        faces.push(ContactFace {
+            label: format!("{} on {}", stack.layers[k + 1].0, stack.layers[k].0),
+            points: points_on(mesh, &layer_nodes[k], &layer_nodes[k + 1]),
+            master: layer_nodes[k].clone(),
+            soil_on_left: !left_is_upper,
             fixed_normal: None,
-        },
-        ContactFace {
-            label: right_label.into(),
-            points: points_on(mesh, &right_master, &bar_nodes),
-            master: right_master,
-            soil_on_left: false,
-            fixed_normal: None,
-        },
-    ];
-    if !left_is_upper {
-        faces.swap(0, 1);
+            law: law.clone(),
+        });
     }
+    faces.push(ContactFace {
+        label: "lower".into(),
+        points: points_on(mesh, &lower_master, &bottom),
+        master: lower_master,
+        soil_on_left: !left_is_upper,
+        fixed_normal: None,
+        law: stack.lower.clone(),
+    });
     if split_count < path.len() {
-        // the tail is a slit tip: both faces end at one soil node, one row serves both
-        if let Some(p) = faces[1].points.last_mut() {
+        // the tail is a slit tip: the faces end at one soil node; the lower face's row there
+        // repeats the others (their sum), and they carry it
+        if let Some(p) = faces.last_mut().and_then(|f| f.points.last_mut()) {
             p.slit_tip = true;
         }
     }
@@ -268,22 +300,25 @@ pub fn split_reinforcement(
         }
         Interface {
             name: format!("{name}.slit"),
-            law: law.clone(),
             faces: vec![ContactFace {
                 label: "slit".into(),
                 points,
                 master: path.clone(),
                 soil_on_left: true,
                 fixed_normal: None,
+                law: stack.upper.clone(),
             }],
             slit_of: None, // set by the caller, which knows the reinforcement's index
         }
     });
-    record.node_sets.push((format!("{name}.head"), vec![bar_nodes[0]]));
-    record.node_sets.push((format!("{name}.tail"), vec![bar_nodes[tail]]));
-    record.node_sets.push((format!("{name}.reinforcement"), bar_nodes));
+    for (k, nodes) in layer_nodes.into_iter().enumerate() {
+        let layer = if k == 0 { name } else { stack.layers[k].0.as_str() };
+        record.node_sets.push((format!("{layer}.head"), vec![nodes[0]]));
+        record.node_sets.push((format!("{layer}.tail"), vec![nodes[tail]]));
+        record.node_sets.push((format!("{layer}.reinforcement"), nodes));
+    }
     record.slit = slit;
-    Some((Interface { name: name.to_string(), law, faces, slit_of: None }, record))
+    Some((Interface { name: name.to_string(), faces, slit_of: None }, record))
 }
 
 /// Associate a hand-made slave line with its master face.
@@ -417,6 +452,7 @@ pub fn pair(
         master,
         soil_on_left: soil_left.unwrap_or(true),
         fixed_normal,
+        law,
     };
     // Every slave node must sit on its master face.
     let tol = 1e-6 * mesh.characteristic_length();
@@ -447,5 +483,5 @@ pub fn pair(
     if problems.len() > before {
         return None;
     }
-    Some(Interface { name: name.to_string(), law, faces: vec![face], slit_of: None })
+    Some(Interface { name: name.to_string(), faces: vec![face], slit_of: None })
 }

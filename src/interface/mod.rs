@@ -95,12 +95,13 @@ pub struct ContactFace {
     /// For a master face with no soil element (a rigid base): the normal into the master side.
     pub fixed_normal: Option<[f64; 2]>,
     pub points: Vec<ContactPoint>,
+    /// The shear law of this face's points (the faces of a stack of geosynthetics differ).
+    pub law: ShearLaw,
 }
 
 #[derive(Debug, Clone)]
 pub struct Interface {
     pub name: String,
-    pub law: ShearLaw,
     pub faces: Vec<ContactFace>,
     /// For the slit that a reinforcement leaves behind its tail as it slides: the index of that
     /// reinforcement's interface. The slit's two soil faces come into contact as they are uncovered.
@@ -109,6 +110,13 @@ pub struct Interface {
 
 /// A row over displacement DOFs: `(node, [coefficient on ux, coefficient on uy])`.
 pub type Row = Vec<(NodeIndex, [f64; 2])>;
+
+impl Interface {
+    /// Tied in both directions (validation keeps `tie` from mixing with sliding laws in one interface).
+    pub fn is_tie(&self) -> bool {
+        self.faces.first().is_some_and(|f| f.law.is_tie())
+    }
+}
 
 impl ContactFace {
     /// Unit normal into the master face's soil on segment `segment`, in the reference geometry.
@@ -169,14 +177,14 @@ impl ContactFace {
 /// 1 + (largest slip ÷ `each_side` segments) analyses. Returns whether the windows were reset.
 pub fn reserve_windows(interfaces: &mut [Interface], each_side: usize) -> bool {
     // a tie does not slide
-    let sliding = || interfaces.iter().filter(|i| !i.law.is_tie()).flat_map(|i| i.faces.iter());
+    let sliding = || interfaces.iter().filter(|i| !i.is_tie()).flat_map(|i| i.faces.iter());
     let all_inside = sliding()
         .flat_map(|f| f.points.iter())
         .all(|p| p.reserved.is_some_and(|(lo, hi)| (lo..=hi).contains(&p.segment)));
     if all_inside {
         return false;
     }
-    for face in interfaces.iter_mut().filter(|i| !i.law.is_tie()).flat_map(|i| i.faces.iter_mut()) {
+    for face in interfaces.iter_mut().filter(|i| !i.is_tie()).flat_map(|i| i.faces.iter_mut()) {
         let last = face.master.len().saturating_sub(2);
         for p in &mut face.points {
             p.reserved = Some((p.segment.saturating_sub(each_side), (p.segment + each_side).min(last)));

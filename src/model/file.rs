@@ -315,6 +315,18 @@ pub struct BarRow {
     pub material: String,
 }
 
+/// A geosynthetic laid on the layer beneath it along the same path.
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct StackedLayer {
+    /// Its name: node sets `<name>.head`, `<name>.tail` and `<name>.reinforcement` hold its nodes.
+    pub name: String,
+    /// Name of a reinforcement material.
+    pub material: String,
+    /// The law of this layer sliding on the one beneath it.
+    pub law: ShearLawSpec,
+}
+
 /// Where a support, load or prescribed displacement acts: exactly one of `node`, `nodes` or `set`.
 #[derive(Debug, Clone, Copy)]
 pub struct NodeTarget<'a> {
@@ -377,8 +389,13 @@ pub struct InterfaceSpec {
     /// any soil element (a rigid base).
     #[serde(default)]
     pub master_normal: Option<[f64; 2]>,
-    /// The shear law of every face of this interface.
+    /// The shear law of every face of this interface; for a reinforcement, of the soil above it
+    /// against its top layer.
     pub law: ShearLawSpec,
+    /// For a reinforcement: the law of its bottom layer against the soil below, when it differs
+    /// from `law` (a geomembrane on a clay liner under a geotextile, say).
+    #[serde(default)]
+    pub lower_law: Option<ShearLawSpec>,
 }
 
 #[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
@@ -397,6 +414,10 @@ pub struct ReinforcementPath {
     pub head: Option<[f64; 2]>,
     /// Name of a reinforcement material.
     pub material: String,
+    /// Further geosynthetics laid on this one, from the bottom up (a geotextile on a geomembrane):
+    /// each slides on the layer beneath it by its own law.
+    #[serde(default)]
+    pub stack: Vec<StackedLayer>,
 }
 
 /// Tangential law per face and per slave point.

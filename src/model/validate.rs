@@ -277,6 +277,7 @@ pub(super) fn validate(source: &Path, file: &ModelFile) -> Result<Model, ModelEr
             p.push(format!("{field}.name"), &entity, "duplicate interface name");
         }
         let law = shear_law(&spec.law, &format!("{field}.law"), &entity, &mut p);
+        let lower_law = spec.lower_law.as_ref().map(|l| shear_law(l, &format!("{field}.lower_law"), &entity, &mut p));
         if !mesh_ok {
             continue;
         }
@@ -306,14 +307,54 @@ pub(super) fn validate(source: &Path, file: &ModelFile) -> Result<Model, ModelEr
                     continue;
                 }
                 let Some(law) = law else { continue };
+                let lower = match lower_law {
+                    Some(Some(l)) => l,
+                    Some(None) => continue,
+                    None => law.clone(),
+                };
+                let mut stack = build::Stack {
+                    layers: vec![(spec.name.clone(), material)],
+                    upper: law,
+                    lower,
+                    between: Vec::new(),
+                };
+                let before = p.len();
+                for (j, layer) in r.stack.iter().enumerate() {
+                    let lf = format!("{field}.reinforcement.stack[{j}]");
+                    let le = format!("{entity}, layer \"{}\"", layer.name);
+                    if !names.insert(layer.name.clone()) {
+                        p.push(format!("{lf}.name"), &le, "the name is already used by an interface or another layer");
+                    }
+                    match reinf_index.get(layer.material.as_str()) {
+                        Some(&m) => stack.layers.push((layer.name.clone(), m)),
+                        None => p.push(
+                            format!("{lf}.material"),
+                            &le,
+                            format!("no reinforcement material named \"{}\"", layer.material),
+                        ),
+                    }
+                    if let Some(l) = shear_law(&layer.law, &format!("{lf}.law"), &le, &mut p) {
+                        stack.between.push(l);
+                    }
+                }
+                let laws = || std::iter::once(&stack.upper).chain(&stack.between).chain(std::iter::once(&stack.lower));
+                if laws().any(|l| l.is_tie()) && !laws().all(|l| l.is_tie()) {
+                    p.push(
+                        format!("{field}.lower_law"),
+                        &entity,
+                        "a `tie` law cannot be mixed with sliding laws in one reinforcement: tie every face or none",
+                    );
+                }
+                if p.len() > before {
+                    continue;
+                }
                 let sides_now = SideMap::new(&mesh);
                 if let Some((interface, record)) = build::split_reinforcement(
                     &mut mesh,
                     &sides_now,
                     &spec.name,
                     &r.path,
-                    material,
-                    law,
+                    &stack,
                     &mut next_bar_id,
                     &format!("{field}.reinforcement"),
                     &mut p,
@@ -333,6 +374,9 @@ pub(super) fn validate(source: &Path, file: &ModelFile) -> Result<Model, ModelEr
                 }
             }
             (None, Some(slave), Some(master)) => {
+                if spec.lower_law.is_some() {
+                    p.push(format!("{field}.lower_law"), &entity, "lower_law applies only to a reinforcement");
+                }
                 let Some(law) = law else { continue };
                 let sides_now = SideMap::new(&mesh);
                 if let Some(i) =

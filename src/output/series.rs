@@ -43,9 +43,14 @@ impl PulloutReference {
             let Some(name) = peak.label.strip_suffix(".head") else { continue };
             let Some(interface) = model.interfaces.iter().find(|i| i.name == name) else { continue };
             let Some(nodes) = model.node_set(&format!("{name}.reinforcement")) else { continue };
-            let cohesion = interface.law.peak_strength(0.0);
-            let tan_phi = interface.law.peak_strength(1.0) - cohesion;
-            if !(tan_phi.is_finite() && cohesion.is_finite()) || interface.law.is_tie() {
+            // the closed form needs one law on both faces (no stack)
+            let law = &interface.faces[0].law;
+            if interface.faces.iter().any(|f| f.law != *law) || interface.faces.len() != 2 {
+                continue;
+            }
+            let cohesion = law.peak_strength(0.0);
+            let tan_phi = law.peak_strength(1.0) - cohesion;
+            if !(tan_phi.is_finite() && cohesion.is_finite()) || law.is_tie() {
                 continue;
             }
             let length: f64 = model

@@ -39,11 +39,12 @@ pub fn bar_in_rigid_soil(
         supports: vec![support("soil", &[Direction::X, Direction::Y])],
         interfaces: vec![InterfaceSpec {
             name: "grid".into(),
-            reinforcement: Some(ReinforcementPath { path, line: None, head: None, material: "grid".into() }),
+            reinforcement: Some(ReinforcementPath { path, line: None, head: None, material: "grid".into(), stack: Vec::new() }),
             slave: None,
             master: None,
             master_normal: None,
             law,
+            lower_law: None,
         }],
         stages: vec![Stage {
             name: "pull".into(),
