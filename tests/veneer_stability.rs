@@ -170,6 +170,43 @@ fn lined_slope(beta_deg: f64, length: f64, toe: bool, phi_i: f64, phi_soil: f64,
     file
 }
 
+/// `lined_slope` with a geosynthetic parallel to the slope at mid-thickness of the cover, bonded
+/// to it (`tie`), from the crest's end face to the vertical through O, pulled up the slope at its
+/// head by `pull` [kN/m]: the two-wedge method's force T on the active wedge.
+fn lined_slope_with_pull(beta_deg: f64, length: f64, phi_i: f64, phi_soil: f64, pull: f64) -> ModelFile {
+    let mut file = lined_slope(beta_deg, length, true, phi_i, phi_soil, ReducedStrengths::SoilAndInterfaces);
+    let n_slope = (length / H * 4.0).round() as usize;
+    let mid_row = |i: usize| (1 + 2 * (n_slope + 1) + i) as u64; // slope_id(i, 2) of `lined_slope`
+    file.materials.reinforcement.insert(
+        "geogrid".into(),
+        ReinforcementMaterial { axial_stiffness: 1000.0, tension_only: false, rupture_strength: None },
+    );
+    file.interfaces.push(InterfaceSpec {
+        name: "geogrid".into(),
+        reinforcement: Some(ReinforcementPath {
+            path: (0..=n_slope).map(mid_row).collect(),
+            line: None,
+            head: None,
+            material: "geogrid".into(),
+            stack: Vec::new(),
+        }),
+        slave: None,
+        master: None,
+        master_normal: None,
+        law: ShearLawSpec::Tie,
+        lower_law: None,
+    });
+    let beta = beta_deg.to_radians();
+    file.stages[0].loads.push(LoadSpec::Point {
+        node: None,
+        nodes: None,
+        set: Some("geogrid.head".into()),
+        fx: -pull * beta.cos(),
+        fy: pull * beta.sin(),
+    });
+    file
+}
+
 /// The two-wedge factor of safety (closed-forms.md §7) with a geosynthetic force `t` parallel to
 /// the slope; `c_a` = 0 (the liner interface has no adhesion).
 fn two_wedge(beta_deg: f64, length: f64, phi_i: f64, phi: f64, t: f64) -> f64 {
@@ -208,6 +245,43 @@ fn a_long_slope_with_no_toe_has_the_infinite_slope_factor_of_safety() {
 /// up to the vertical through O): the liner of the finite-element model is that shorter length.
 fn liner_length(beta_deg: f64, two_wedge_length: f64) -> f64 {
     two_wedge_length - H / beta_deg.to_radians().sin()
+}
+
+/// The force T that the two-wedge method needs for a target FS (FS rises with T).
+fn two_wedge_force(beta_deg: f64, length: f64, phi_i: f64, phi: f64, target: f64) -> f64 {
+    let (mut low, mut high) = (0.0, 1.0);
+    while two_wedge(beta_deg, length, phi_i, phi, high) < target {
+        high *= 2.0;
+    }
+    for _ in 0..60 {
+        let mid = 0.5 * (low + high);
+        if two_wedge(beta_deg, length, phi_i, phi, mid) < target {
+            low = mid;
+        } else {
+            high = mid;
+        }
+    }
+    0.5 * (low + high)
+}
+
+/// A geosynthetic pulling the active wedge up the slope with the force the two-wedge method needs
+/// for a target FS gives that FS by strength reduction: 1.8 on a 2.5H:1V slope, 1.5 on 2H:1V, at
+/// L/h = 15.
+#[test]
+fn the_two_wedge_geosynthetic_force_for_a_target_factor_of_safety_gives_that_factor() {
+    let (phi_i, phi): (f64, f64) = (24.0, 35.0);
+    let length = 15.0 * H;
+    for (beta, target) in [(21.8f64, 1.8), (26.57, 1.5)] {
+        let unreinforced = two_wedge(beta, length, phi_i, phi, 0.0);
+        assert!(unreinforced < 0.9 * target, "the slope needs the geosynthetic: FS {unreinforced:.3} without");
+        let force = two_wedge_force(beta, length, phi_i, phi, target);
+        let fs = factor_of_safety(&lined_slope_with_pull(beta, liner_length(beta, length), phi_i, phi, force));
+        eprintln!("β = {beta}°: T = {force:.3} kN/m, FS {fs:.4} (target {target})");
+        assert!(
+            common::relative_error(fs, target) < 0.05,
+            "β = {beta}°, T = {force:.3} kN/m: FS {fs:.4} against the two-wedge target {target}"
+        );
+    }
 }
 
 /// L/h = 15, where the toe adds 25–40 % to tan φ_i / tan β: three slope angles, 3H:1V to 2H:1V.
