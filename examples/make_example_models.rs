@@ -99,7 +99,13 @@ fn paper_block() -> ModelFile {
         supports: vec![support("base", &[Direction::X, Direction::Y]), support("sides", &[Direction::X])],
         interfaces: vec![InterfaceSpec {
             name: "reinforcement".into(),
-            reinforcement: Some(ReinforcementPath { path, line: None, head: None, material: "geosynthetic".into(), stack: Vec::new() }),
+            reinforcement: Some(ReinforcementPath {
+                path,
+                line: None,
+                head: None,
+                material: "geosynthetic".into(),
+                stack: Vec::new(),
+            }),
             slave: None,
             master: None,
             master_normal: None,

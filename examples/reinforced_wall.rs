@@ -19,11 +19,10 @@
 
 use geoslip::analysis::results::StepResults;
 use geoslip::analysis::system::SolverStats;
-use geoslip::analysis::{self, RunOptions, StepRecord, StepSink};
-use geoslip::linsol::Backend;
+use geoslip::analysis::{StepRecord, StepSink};
 use geoslip::model::Model;
 use geoslip::output::plots::{write_figure, Panel};
-use geoslip::output::{write_atomically, ResultWriter};
+use geoslip::output::{run_and_write, write_atomically};
 use geoslip::Error;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -33,15 +32,13 @@ const SPACING: f64 = 0.6;
 const LAYERS: usize = 10;
 const SURCHARGE: f64 = 10.0;
 
-/// Writes the standard results and keeps the last step.
-struct Keep<'a> {
-    writer: &'a mut ResultWriter,
+/// Keeps the last step.
+struct Keep {
     last: Option<StepResults>,
 }
 
-impl StepSink for Keep<'_> {
-    fn step_done(&mut self, step: &StepResults, record: &StepRecord, stats: &SolverStats) -> Result<(), Error> {
-        self.writer.step_done(step, record, stats)?;
+impl StepSink for Keep {
+    fn step_done(&mut self, step: &StepResults, _: &StepRecord, _: &SolverStats) -> Result<(), Error> {
         self.last = Some(step.clone());
         Ok(())
     }
@@ -67,19 +64,9 @@ fn run() -> Result<(), Error> {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/reinforced-wall/reinforced-wall.toml");
     let out = Path::new("results/reinforced-wall");
     let model = Model::load(&path)?;
-    let started = std::time::Instant::now();
-    let mut writer = ResultWriter::new(&model, out, "auto")?;
-    let mut keep = Keep { writer: &mut writer, last: None };
-    let result = analysis::run(&model, &RunOptions::for_model(&model, Backend::Auto), &mut keep);
-    let last = keep.last.take();
-    let seconds = started.elapsed().as_secs_f64();
-    match result {
-        Ok(stats) => writer.finish(&model, None, Some(stats), seconds)?,
-        Err(e) => {
-            writer.finish(&model, Some(&e), None, seconds)?;
-            return Err(e);
-        }
-    }
+    let mut keep = Keep { last: None };
+    let seconds = run_and_write(&model, out, &mut keep)?;
+    let last = keep.last;
     let last = last.expect("a completed run has steps");
     let backfill = &model.soils.iter().find(|(n, _)| n == "backfill").expect("the model has a backfill").1;
     let (gamma, phi) = (backfill.unit_weight, backfill.friction_angle.to_radians());

@@ -243,13 +243,19 @@ impl StepSink for Progress<'_> {
             self.bar.set_length(done);
         }
         self.bar.set_position(done);
-        self.bar.set_message(format!("{} (load factor {:.3})", record.stage, record.load_factor));
+        self.bar.set_message(match record.strength_factor {
+            Some(f) => format!("{} (strengths / {f:.3})", record.stage),
+            None => format!("{} (load factor {:.3})", record.stage, record.load_factor),
+        });
         if self.verbosity == Verbosity::Verbose {
             let line = format!(
-                "stage \"{}\" step {}: load factor {:.4}, {} iterations, {} cutbacks, force residual {:.1e}, {} sliding of {} in contact, {} soil points yielding, {} state changes, {} re-associations",
+                "stage \"{}\" step {}: {}, {} iterations, {} cutbacks, force residual {:.1e}, {} sliding of {} in contact, {} soil points yielding, {} state changes, {} re-associations",
                 record.stage,
                 record.step,
-                record.load_factor,
+                match record.strength_factor {
+                    Some(f) => format!("strengths divided by {f:.4}"),
+                    None => format!("load factor {:.4}", record.load_factor),
+                },
                 record.iterations,
                 record.cutbacks,
                 record.force_residual,
@@ -260,6 +266,28 @@ impl StepSink for Progress<'_> {
                 record.reassociations.len()
             );
             // a hidden bar (output not a terminal) prints nothing of its own
+            if self.bar.is_hidden() {
+                eprintln!("{line}");
+            } else {
+                self.bar.println(line);
+            }
+        }
+        Ok(())
+    }
+
+    fn factor_of_safety(&mut self, fs: &crate::analysis::FactorOfSafety) -> Result<(), crate::Error> {
+        self.writer.factor_of_safety(fs)?;
+        let line = match fs.failed_at {
+            Some(f) => format!(
+                "stage \"{}\": factor of safety {:.3} ({} reduced; no equilibrium at {f:.3})",
+                fs.stage, fs.value, fs.reduced
+            ),
+            None => format!(
+                "stage \"{}\": factor of safety at least {:.3} ({} reduced; the search stopped at max_factor)",
+                fs.stage, fs.value, fs.reduced
+            ),
+        };
+        if self.verbosity != Verbosity::Quiet {
             if self.bar.is_hidden() {
                 eprintln!("{line}");
             } else {

@@ -94,7 +94,10 @@ fn stack_in_shear() -> ModelFile {
             Stage {
                 name: "shear".into(),
                 // 0.01 mm steps to 3 mm (past the peak, about 2 mm), then 0.5 mm steps
-                load_factors: (1..=300).map(|k| k as f64 * 1e-5 / PUSH).chain((7..=40).map(|k| k as f64 / 40.0)).collect(),
+                load_factors: (1..=300)
+                    .map(|k| k as f64 * 1e-5 / PUSH)
+                    .chain((7..=40).map(|k| k as f64 / 40.0))
+                    .collect(),
                 // a platen that neither rises nor tilts (the interfaces do not dilate)
                 prescribed: vec![common::prescribed("cover", Some(PUSH), Some(0.0))],
                 ..Default::default()
@@ -125,13 +128,15 @@ fn the_stack_slides_on_its_weakest_interface_at_peak_then_residual_strength() {
     let largest = shear.iter().fold(0.0f64, |m, &f| m.max(f));
     let last = *shear.last().unwrap();
     assert!(common::relative_error(largest, peak) < 0.01, "peak shear {largest:.3} kN/m against N·tan 16° = {peak:.3}");
-    assert!(common::relative_error(last, residual) < 0.01, "final shear {last:.3} kN/m against N·tan 10° = {residual:.3}");
+    assert!(
+        common::relative_error(last, residual) < 0.01,
+        "final shear {last:.3} kN/m against N·tan 10° = {residual:.3}"
+    );
 
     // where it slid: on the geotextile / geomembrane face only
     let end = &c.steps.last().unwrap().1;
     let mean_slip = |face: &str| {
-        let points: Vec<f64> =
-            end.interface_points.iter().filter(|p| p.face == face).map(|p| p.slip.abs()).collect();
+        let points: Vec<f64> = end.interface_points.iter().filter(|p| p.face == face).map(|p| p.slip.abs()).collect();
         assert!(!points.is_empty(), "no points on face {face}");
         points.iter().sum::<f64>() / points.len() as f64
     };

@@ -37,7 +37,14 @@ const COVER_COHESION: f64 = 1.0;
 /// With `toe`, the cover's surface runs on down to the ground at T = (h / sin β, 0) as in the
 /// two-wedge method: the passive wedge is the triangle O, P = (0, h / cos β), T, resting on the
 /// horizontal ground O–T. Without it the cover ends at O with a face normal to the slope.
-fn lined_slope(beta_deg: f64, length: f64, toe: bool, phi_i: f64, phi_soil: f64, reduce: ReducedStrengths) -> ModelFile {
+fn lined_slope(
+    beta_deg: f64,
+    length: f64,
+    toe: bool,
+    phi_i: f64,
+    phi_soil: f64,
+    reduce: ReducedStrengths,
+) -> ModelFile {
     let beta = beta_deg.to_radians();
     let (c, s) = (beta.cos(), beta.sin());
     let up_normal = [s, c];
@@ -68,7 +75,10 @@ fn lined_slope(beta_deg: f64, length: f64, toe: bool, phi_i: f64, phi_soil: f64,
     };
     for j in 0..m {
         for i in 0..n_slope {
-            element(SolidKind::Quad4, vec![slope_id(i, j), slope_id(i + 1, j), slope_id(i + 1, j + 1), slope_id(i, j + 1)]);
+            element(
+                SolidKind::Quad4,
+                vec![slope_id(i, j), slope_id(i + 1, j), slope_id(i + 1, j + 1), slope_id(i, j + 1)],
+            );
         }
     }
     // the passive wedge: rays from the nodes on O–P to T, quads but for a last column of triangles
@@ -293,7 +303,8 @@ fn a_toe_gives_the_two_wedge_factor_of_safety_at_three_slope_angles() {
         let no_toe = phi_i.to_radians().tan() / f64::to_radians(beta).tan();
         let exact = two_wedge(beta, length, phi_i, phi, 0.0);
         assert!(exact > 1.2 * no_toe, "at this L/h the toe must matter: {exact} against {no_toe}");
-        let model = lined_slope(beta, liner_length(beta, length), true, phi_i, phi, ReducedStrengths::SoilAndInterfaces);
+        let model =
+            lined_slope(beta, liner_length(beta, length), true, phi_i, phi, ReducedStrengths::SoilAndInterfaces);
         let fs = factor_of_safety(&model);
         assert!(
             common::relative_error(fs, exact) < 0.05,

@@ -173,6 +173,9 @@ pub struct State {
     pub bars: system::BarStates,
     /// The soil: present elements, Gauss-point stresses, pore pressures.
     pub soil: soil::SoilField,
+    /// Nodes of soil or reinforcement in place now: a face whose master segment is not (cover soil
+    /// still to come over a liner) has no contact there. Empty: every node.
+    pub placed: Vec<bool>,
 }
 
 /// Run every stage of a model.
@@ -219,6 +222,7 @@ pub fn run(model: &Model, options: &RunOptions, sink: &mut dyn StepSink) -> Resu
             ..system::BarStates::new(model.mesh.bars.len())
         },
         soil: soil::initial_field(model),
+        placed: Vec::new(),
     };
     reserve_segments(options, &mut state.interfaces);
     let bar_only = bar_only_nodes(model);
@@ -254,6 +258,8 @@ pub fn run(model: &Model, options: &RunOptions, sink: &mut dyn StepSink) -> Resu
             soil::set_k0(model, &setup, &mut state.soil, &state.u);
         }
         state.u_committed = state.u.clone();
+        let placed_before = std::mem::replace(&mut state.placed, placed_nodes(model, &state.soil, &state.bars));
+        place_contacts(&mut state, &placed_before);
         let stage_held = with_absent_nodes(model, &state.soil, &state.bars, &held);
         let dofs = DofMap::new(model.mesh.nodes.len(), &stage_held, &state.interfaces);
         let mut redundant = mark_redundant_rows(model, &mut state.interfaces, &dofs);
@@ -541,6 +547,70 @@ fn reserve_segments(options: &RunOptions, interfaces: &mut [Interface]) {
     }
 }
 
+/// Nodes of present soil elements and of placed bars, and nodes of neither (a rigid base).
+fn placed_nodes(model: &Model, field: &soil::SoilField, bars: &system::BarStates) -> Vec<bool> {
+    let mut placed = soil::present_nodes(model, field);
+    let mut in_something = vec![false; placed.len()];
+    for e in &model.mesh.solids {
+        for &n in &e.nodes {
+            in_something[n] = true;
+        }
+    }
+    for (i, b) in model.mesh.bars.iter().enumerate() {
+        for &n in &b.nodes {
+            in_something[n] = true;
+            if !bars.absent[i] {
+                placed[n] = true;
+            }
+        }
+    }
+    for (p, used) in placed.iter_mut().zip(in_something) {
+        *p |= !used;
+    }
+    placed
+}
+
+/// Whether a point and its master segment are in place (see `State::placed`).
+fn master_placed(
+    placed: &[bool],
+    face: &crate::interface::ContactFace,
+    point: &crate::interface::ContactPoint,
+) -> bool {
+    placed.is_empty()
+        || (placed[point.slave]
+            && face.master[point.segment..=(point.segment + 1).min(face.master.len() - 1)].iter().all(|&n| placed[n]))
+}
+
+/// Contacts as a stage places and removes soil and reinforcement. A point not in place, or whose
+/// master segment is not (a reinforcement still to be laid; a liner under cover soil still to come,
+/// or soil excavated off it), is released: it would bear on nodes held where they were. A point that
+/// this stage puts in place (a sheet laid on the ground, soil placed on it) starts in contact.
+fn place_contacts(state: &mut State, placed_before: &[bool]) {
+    let multipliers = crate::dofs::multipliers(&state.interfaces);
+    for (k, m) in multipliers.iter().enumerate() {
+        let face = &state.interfaces[m.interface].faces[m.face];
+        if m.tangential || state.interfaces[m.interface].slit_of.is_some() || state.interfaces[m.interface].is_tie() {
+            continue;
+        }
+        let point = &face.points[m.point];
+        let now = master_placed(&state.placed, face, point);
+        let before = !placed_before.is_empty() && master_placed(placed_before, face, point);
+        let point = &mut state.interfaces[m.interface].faces[m.face].points[m.point];
+        match (before, now, &point.normal_state) {
+            (_, false, NormalState::Active) => {
+                point.normal_state = NormalState::Released;
+                state.lambda[k] = 0.0;
+            }
+            (false, true, NormalState::Released | NormalState::Held { outside: false }) => {
+                // laid now: its slip and shear count from here
+                point.normal_state = NormalState::Active;
+                point.shear = Default::default();
+            }
+            _ => {}
+        }
+    }
+}
+
 /// `held` plus both DOFs of every node whose soil elements are all absent (and that no bar uses).
 fn with_absent_nodes(model: &Model, field: &soil::SoilField, bars: &system::BarStates, held: &[bool]) -> Vec<bool> {
     let mut held = held.to_vec();
@@ -702,6 +772,11 @@ fn mark_redundant_rows(model: &Model, interfaces: &mut [Interface], dofs: &DofMa
             let tip_partner = if tip { by_slave.get(&slave).and_then(|e| e.first()).map(|(j, _)| *j) } else { None };
             match seen.get(&key).copied().or(near).or(tip_partner) {
                 Some(first) => Some((name(interfaces, first), Some(first))),
+                // a stack's tail inside the soil: the lower face's row there is the sum of the
+                // upper face's and the rows between the layers, which carry it together
+                None if tip && interfaces[m.interface].faces.len() > 2 => {
+                    Some(("the other faces of the stack at the slit tip".to_string(), None))
+                }
                 None => {
                     seen.insert(key, k);
                     by_slave.entry(slave).or_default().push((k, free.clone()));
@@ -910,6 +985,8 @@ fn equilibrium(
         Scheme::ConstantStiffness => soil::Tangent::Elastic,
     };
     let mut carried_soil: Option<soil::SoilTrial> = None;
+    // Sliding points' springs on Ks instead of their zero plastic tangent (see the singular case)
+    let mut elastic_springs = false;
     for iteration in 1..=options.analysis.max_iterations {
         system.stats.iterations += 1;
         let t = Instant::now();
@@ -952,6 +1029,7 @@ fn equilibrium(
                     let ks = state.interfaces[s.interface].faces[s.face].law.shear_stiffness().unwrap_or(0.0);
                     let k = match options.analysis.scheme {
                         Scheme::ConstantStiffness => ks,
+                        Scheme::Newton | Scheme::NewtonSymmetric if elastic_springs => ks,
                         Scheme::Newton | Scheme::NewtonSymmetric => r.response.tangent.max(0.0),
                     };
                     k * s.tributary
@@ -1021,6 +1099,21 @@ fn equilibrium(
         matrix_key = Some(key);
         let (x, lin_res) = match reused.map_or_else(|| system.solve(dofs.size(), &triplets, &rhs, active), Ok) {
             Ok(v) => v,
+            Err(Failure::Singular { .. }) if !elastic_springs && springs.iter().any(|r| r.sliding) => {
+                // Sliding points have no shear stiffness; where they are all that holds a node along
+                // the interface (a tension-only sheet gone slack, under no normal stress, as a liner
+                // laid before its cover) the tangent is singular though the forces balance: the
+                // rest of the increment iterates with Ks on the sliding points.
+                elastic_springs = true;
+                matrix_key = None;
+                let w = "the tangent with sliding interface points was singular in some increments (a slack \
+                         reinforcement held only by sliding points); they continued with Ks on those points"
+                    .to_string();
+                if !system.stats.warnings.contains(&w) {
+                    system.stats.warnings.push(w);
+                }
+                continue;
+            }
             Err(Failure::Singular { .. }) if soil_trial.tangents.iter().any(|t| t.is_some()) => {
                 // Yielded soil can leave the consistent tangent singular (a local mechanism of
                 // perfectly plastic Gauss points, as at a footing edge) where the structure itself
@@ -1103,9 +1196,15 @@ fn equilibrium(
         // Converged when the out-of-balance force is small, the gaps are closed, no point changed
         // state, and either the correction is small against the increment or this was the first
         // solve (a first solve that already balances the forces had a linear increment).
+        // (or against the displacements so far, for an increment that moves almost nothing, as a
+        // strength-reduction trial at F = 1, while slack sheets under no normal stress drift along
+        // themselves without changing any force)
         let increment2: f64 = state.u.iter().zip(&u_increment_start).map(|(a, b)| (a - b).powi(2)).sum();
+        let total2: f64 = state.u.iter().map(|a| a * a).sum();
         let displacement_ok = iteration == 1
-            || correction2.sqrt() <= options.analysis.displacement_tolerance * increment2.sqrt().max(f64::MIN_POSITIVE);
+            || correction2.sqrt()
+                <= options.analysis.displacement_tolerance
+                    * increment2.sqrt().max(total2.sqrt()).max(f64::MIN_POSITIVE);
         let t = Instant::now();
         let taus: Vec<f64> = springs.iter().map(|r| r.tau).collect();
         // with the tangent the next iteration assembles (the forces do not depend on it)
@@ -1259,13 +1358,22 @@ fn update_active_set(
         if m.tangential || state.interfaces[m.interface].is_tie() {
             continue;
         }
+        let placed = {
+            let face = &state.interfaces[m.interface].faces[m.face];
+            master_placed(&state.placed, face, &face.points[m.point])
+        };
         let p = &mut state.interfaces[m.interface].faces[m.face].points[m.point];
         // A point that has already switched CHATTER_LIMIT times in this increment stays in contact:
         // its λ is then slightly tensile at most, and it is reported.
         let locked = flips.get(&k).is_some_and(|&n| n >= CHATTER_LIMIT);
         let new = match p.normal_state {
             NormalState::Active if state.lambda[k] < release_below && !locked => Some(NormalState::Released),
-            NormalState::Released | NormalState::Held { outside: false } if gaps[k] > close_above => {
+            NormalState::Released | NormalState::Held { outside: false } if gaps[k] > close_above && placed => {
+                Some(NormalState::Active)
+            }
+            // a row holding a sheet's node that pushes it as contact would (a layer above presses
+            // it onto this face): the contact is back
+            NormalState::Held { outside: false } if state.lambda[k] > -release_below && placed => {
                 Some(NormalState::Active)
             }
             _ => None,
@@ -1301,7 +1409,8 @@ fn hold_free_reinforcement_nodes(model: &Model, state: &mut State, dofs: &DofMap
     let mut slaves: Vec<_> = by_slave.into_iter().collect();
     slaves.sort_by_key(|(s, _)| *s);
     for (slave, ks) in slaves {
-        if !bar_only[slave] {
+        // a node not yet placed is held where it is anyway
+        if !bar_only[slave] || (dofs.equation[2 * slave].is_none() && dofs.equation[2 * slave + 1].is_none()) {
             continue;
         }
         let st = |k: usize| {
@@ -1449,6 +1558,7 @@ pub fn first_system(model: &Model) -> (usize, IterationSystem) {
         frozen_sigma_n: None,
         bars: system::BarStates::new(model.mesh.bars.len()),
         soil: soil::initial_field(model),
+        placed: Vec::new(),
     };
     let rows = InterfaceRows::new(model, &state.interfaces, &dofs);
     let springs = evaluate_springs(&state, &rows);

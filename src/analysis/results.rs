@@ -216,7 +216,8 @@ pub struct ReinforcementBalance {
 }
 
 /// Check, for every interface whose slave nodes belong to no soil element (a reinforcement), that
-/// the interface forces balance what is applied to it.
+/// the interface forces balance what is applied to it. In a stack of geosynthetics the faces
+/// between layers act on both and cancel: the faces against the soil carry the stack.
 pub fn reinforcement_balance(model: &Model, results: &StepResults, state: &State) -> Vec<ReinforcementBalance> {
     let mut in_soil = vec![false; model.mesh.nodes.len()];
     for s in &model.mesh.solids {
@@ -232,6 +233,7 @@ pub fn reinforcement_balance(model: &Model, results: &StepResults, state: &State
         slaves.dedup();
         let mut carried = [0.0; 2];
         for face in &interface.faces {
+            let between_layers = face.master.iter().all(|&n| !in_soil[n]);
             for point in &face.points {
                 let n = face.normal(&model.mesh, point.segment);
                 let lambda = state.lambda[k];
@@ -260,6 +262,11 @@ pub fn reinforcement_balance(model: &Model, results: &StepResults, state: &State
                 // the soil resists positive slip: force −τℓ·t on the slave
                 carried[0] -= shear_force * t[0];
                 carried[1] -= shear_force * t[1];
+                if between_layers {
+                    // the same force, reversed, on the layer beneath: nothing on the stack
+                    carried[0] += lambda * n[0] + shear_force * t[0];
+                    carried[1] += lambda * n[1] + shear_force * t[1];
+                }
             }
         }
         if slaves.is_empty() || slaves.iter().any(|&n| in_soil[n]) {

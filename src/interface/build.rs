@@ -255,7 +255,8 @@ pub fn split_reinforcement(
     let left_master = path.clone();
     let right_master: Vec<NodeIndex> = path.iter().map(|p| *record.twins.get(p).unwrap_or(p)).collect();
     // the upper soil bears on the top layer, the bottom layer on the lower soil
-    let (upper_master, lower_master) = if left_is_upper { (left_master, right_master) } else { (right_master, left_master) };
+    let (upper_master, lower_master) =
+        if left_is_upper { (left_master, right_master) } else { (right_master, left_master) };
     let mut faces = vec![ContactFace {
         label: "upper".into(),
         points: points_on(mesh, &upper_master, &top),

@@ -194,7 +194,9 @@ impl ShearLaw {
                     ShearLaw::Coulomb { .. } => (strength, 0.0),
                     ShearLaw::PeakResidual { .. } => {
                         // Passing the peak drops the strength to the residual (the paper's Fig. 2).
-                        state.post_peak = true;
+                        // Sliding at no strength at all (no adhesion, no normal stress: a sheet laid
+                        // before anything bears on it) passes no peak.
+                        state.post_peak = self.peak_strength(sigma_n) > 0.0;
                         (self.residual_strength(sigma_n), 0.0)
                     }
                     ShearLaw::Softening { softening_slip, .. } => {

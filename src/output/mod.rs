@@ -18,6 +18,39 @@ use crate::model::{Model, UnitLabels};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
+/// Run `model` on the best backend with its standard results written to `out`, passing every step
+/// and factor of safety to `observe` as well (an example's own post-processing). Returns the run's
+/// wall time in seconds; a failed run still finishes its summary and report before the error.
+pub fn run_and_write(model: &Model, out: &Path, observe: &mut dyn StepSink) -> Result<f64, Error> {
+    struct Tee<'a> {
+        writer: &'a mut ResultWriter,
+        observe: &'a mut dyn StepSink,
+    }
+    impl StepSink for Tee<'_> {
+        fn step_done(&mut self, step: &StepResults, record: &StepRecord, stats: &SolverStats) -> Result<(), Error> {
+            self.writer.step_done(step, record, stats)?;
+            self.observe.step_done(step, record, stats)
+        }
+        fn factor_of_safety(&mut self, fs: &crate::analysis::FactorOfSafety) -> Result<(), Error> {
+            self.writer.factor_of_safety(fs)?;
+            self.observe.factor_of_safety(fs)
+        }
+    }
+    let started = std::time::Instant::now();
+    let mut writer = ResultWriter::new(model, out, "auto")?;
+    let options = crate::analysis::RunOptions::for_model(model, crate::linsol::Backend::Auto);
+    let result = crate::analysis::run(model, &options, &mut Tee { writer: &mut writer, observe });
+    let seconds = started.elapsed().as_secs_f64();
+    match result {
+        Ok(stats) => writer.finish(model, None, Some(stats), seconds)?,
+        Err(e) => {
+            writer.finish(model, Some(&e), None, seconds)?;
+            return Err(e);
+        }
+    }
+    Ok(seconds)
+}
+
 /// Write `bytes` to `path` atomically (temporary file + rename).
 ///
 /// # Errors

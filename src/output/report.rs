@@ -66,7 +66,14 @@ pub fn markdown(
     let _ = writeln!(r, "|---|---|---:|---:|");
     for i in &model.interfaces {
         let points: usize = i.faces.iter().map(|f| f.points.len()).sum();
-        let _ = writeln!(r, "| {} | {} | {} | {} |", i.name, i.faces.iter().map(|f| f.law.name()).collect::<Vec<_>>().join(" / "), i.faces.len(), points);
+        let _ = writeln!(
+            r,
+            "| {} | {} | {} | {} |",
+            i.name,
+            i.faces.iter().map(|f| f.law.name()).collect::<Vec<_>>().join(" / "),
+            i.faces.len(),
+            points
+        );
     }
     let a = &model.analysis;
     let _ = writeln!(

@@ -39,7 +39,13 @@ pub fn bar_in_rigid_soil(
         supports: vec![support("soil", &[Direction::X, Direction::Y])],
         interfaces: vec![InterfaceSpec {
             name: "grid".into(),
-            reinforcement: Some(ReinforcementPath { path, line: None, head: None, material: "grid".into(), stack: Vec::new() }),
+            reinforcement: Some(ReinforcementPath {
+                path,
+                line: None,
+                head: None,
+                material: "grid".into(),
+                stack: Vec::new(),
+            }),
             slave: None,
             master: None,
             master_normal: None,
