@@ -231,6 +231,9 @@ fn run() -> Result<(), Error> {
                 "FS = **{:.3}** ({} reduced): equilibrium at F = {factor:.4}, none at F = {f:.4}.\n",
                 fs.value, fs.reduced
             );
+            if let Some(why) = &fs.failure {
+                let _ = writeln!(md, "At F = {f:.4}: {why}.\n");
+            }
         }
         None => {
             let _ = writeln!(

@@ -294,6 +294,34 @@ fn the_two_wedge_geosynthetic_force_for_a_target_factor_of_safety_gives_that_fac
     }
 }
 
+/// The geosynthetic anchored at the crest instead (tension-only, EA = 1000 kN/m), with the two-wedge
+/// force for FS = 1.35 on a 2H:1V slope as its rupture strength: the search finds FS within 5 % of
+/// 1.35 (the grid at its strength there), and reports the rupture that ends it.
+#[test]
+fn an_anchored_geosynthetic_ruptures_at_the_two_wedge_factor_of_safety_for_its_strength() {
+    let (phi_i, phi, beta, target): (f64, f64, f64, f64) = (24.0, 35.0, 26.57, 1.35);
+    let length = 15.0 * H;
+    let strength = two_wedge_force(beta, length, phi_i, phi, target);
+    let mut file = lined_slope_with_pull(beta, liner_length(beta, length), phi_i, phi, 0.0);
+    file.stages[0].loads.retain(|l| !matches!(l, LoadSpec::Point { .. }));
+    file.stages[0].prescribed.push(common::prescribed("geogrid.head", Some(0.0), Some(0.0)));
+    let grid = file.materials.reinforcement.get_mut("geogrid").unwrap();
+    grid.axial_stiffness = 1000.0;
+    grid.tension_only = true;
+    grid.rupture_strength = Some(strength);
+    file.analysis.force_tolerance = 1e-5;
+    file.analysis.displacement_tolerance = 1e-5;
+    let model = common::model(&file, "lined-slope.toml");
+    let c = common::run(&model, Backend::Auto);
+    let fs = c.factors_of_safety.last().expect("a strength-reduction stage reports its FS");
+    let why = fs.failure.clone().unwrap_or_default();
+    let t_max = c.steps.last().unwrap().1.bar_forces.iter().map(|b| b.axial_force).fold(0.0, f64::max);
+    eprintln!("T_ult = {strength:.3} kN/m: FS {:.4}, T_max there {t_max:.3}; {why}", fs.value);
+    assert!(common::relative_error(fs.value, target) < 0.05, "FS {:.4} against {target}", fs.value);
+    assert!(t_max > 0.95 * strength, "at FS the grid is near its strength: {t_max:.3} of {strength:.3} kN/m");
+    assert!(why.contains("bars of geogrid"), "the failure names the ruptured geosynthetic: {why}");
+}
+
 /// L/h = 15, where the toe adds 25–40 % to tan φ_i / tan β: three slope angles, 3H:1V to 2H:1V.
 #[test]
 fn a_toe_gives_the_two_wedge_factor_of_safety_at_three_slope_angles() {

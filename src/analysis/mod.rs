@@ -93,6 +93,9 @@ pub struct FactorOfSafety {
     pub reduced: &'static str,
     /// Every factor tried, and whether it found equilibrium.
     pub trials: Vec<(f64, bool)>,
+    /// Why the search found no equilibrium at `failed_at`: how the iterations ended, the soil
+    /// yielding, and the reinforcement that ruptured on the way (rolled back with the trial).
+    pub failure: Option<String>,
 }
 
 /// Keeps every converged step in memory (for tests and for programs that use geoslip as a library).
@@ -483,6 +486,7 @@ fn strength_reduction(
         }
     };
     let (mut safe, mut failed) = (1.0f64, None::<f64>);
+    let mut failure = None;
     let mut factor = 1.0;
     let mut growth = 0.1;
     let mut trials = Vec::new();
@@ -508,6 +512,15 @@ fn strength_reduction(
                 complete_increment(model, options, elements, system, dofs, held, state, report, redundant, &at, sink)?;
             }
             Err(e) => {
+                let ruptured = ruptured_since(model, &snapshot.bars, &state.bars);
+                if failed.is_none_or(|f| factor < f) {
+                    failure = Some(match ruptured.is_empty() {
+                        true => e.describe(),
+                        false => {
+                            format!("{}; reinforcement ruptured on the way: {}", e.describe(), ruptured.join(", "))
+                        }
+                    });
+                }
                 *state = snapshot;
                 if factor == 1.0 {
                     // not even the full strengths hold the model: that is a failure of the stages
@@ -537,7 +550,23 @@ fn strength_reduction(
         failed_at: failed,
         reduced: if reduction.soil { "soil and interfaces" } else { "interfaces" },
         trials,
+        failure,
     })
+}
+
+/// Bars ruptured in `after` and not in `before`, counted per reinforcement material.
+fn ruptured_since(model: &Model, before: &system::BarStates, after: &system::BarStates) -> Vec<String> {
+    let mut counts: Vec<(String, usize)> = Vec::new();
+    for (i, bar) in model.mesh.bars.iter().enumerate() {
+        if after.ruptured[i] && !before.ruptured[i] {
+            let name = &model.reinforcements[bar.material].0;
+            match counts.iter_mut().find(|(n, _)| n == name) {
+                Some(c) => c.1 += 1,
+                None => counts.push((name.clone(), 1)),
+            }
+        }
+    }
+    counts.into_iter().map(|(n, c)| format!("{c} bars of {n}")).collect()
 }
 
 /// Reserve master segments around every interface point (see `AnalysisSettings::reserved_segments`).
@@ -838,6 +867,26 @@ enum IncrementError {
 }
 
 impl IncrementError {
+    /// One line on how the increment failed.
+    fn describe(&self) -> String {
+        match self {
+            IncrementError::Solve(e) => format!("the solve failed: {e}"),
+            IncrementError::NotConverged { iterations, residual, reference, unsettled, yielding } => {
+                let mut s = format!(
+                    "no equilibrium after {iterations} iterations (force residual {:.1e} of the reference)",
+                    residual / reference
+                );
+                if !unsettled.is_empty() {
+                    s += &format!("; {} interface points kept changing state", unsettled.len());
+                }
+                if *yielding > 0 {
+                    s += &format!("; {yielding} soil Gauss points on the yield surface");
+                }
+                s
+            }
+        }
+    }
+
     /// A failure that a smaller increment may cure.
     fn retryable(&self) -> bool {
         matches!(self, IncrementError::NotConverged { .. })

@@ -413,9 +413,10 @@ impl ResultWriter {
 
 impl StepSink for ResultWriter {
     fn factor_of_safety(&mut self, fs: &crate::analysis::FactorOfSafety) -> Result<(), Error> {
-        let bracket = match fs.failed_at {
-            Some(f) => format!("no equilibrium at F = {f:.4}"),
-            None => "equilibrium up to the largest factor tried: FS is at least this".to_string(),
+        let bracket = match (fs.failed_at, &fs.failure) {
+            (Some(f), Some(why)) => format!("at F = {f:.4}: {why}"),
+            (Some(f), None) => format!("no equilibrium at F = {f:.4}"),
+            (None, _) => "equilibrium up to the largest factor tried: FS is at least this".to_string(),
         };
         self.summary.events.push(format!(
             "stage \"{}\": factor of safety FS = {:.3} by strength reduction of the {} ({bracket})",

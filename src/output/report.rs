@@ -123,6 +123,13 @@ pub fn markdown(
                 .collect::<Vec<_>>()
                 .join(", ")
         );
+        if let (Some(f), Some(why)) = (fs.failed_at, &fs.failure) {
+            let _ = writeln!(
+                r,
+                "
+At F = {f:.4}: {why}."
+            );
+        }
     }
     if let Some(last) = summary.steps.last() {
         for b in &last.balance {
