@@ -599,12 +599,8 @@ fn placed_nodes(model: &Model, field: &soil::SoilField, bars: &system::BarStates
     placed
 }
 
-/// Whether a point and its master segment are in place (see `State::placed`).
-fn master_placed(
-    placed: &[bool],
-    face: &crate::interface::ContactFace,
-    point: &crate::interface::ContactPoint,
-) -> bool {
+/// Whether a point (its node and its master segment) is in place (see `State::placed`).
+fn in_place(placed: &[bool], face: &crate::interface::ContactFace, point: &crate::interface::ContactPoint) -> bool {
     placed.is_empty()
         || (placed[point.slave]
             && face.master[point.segment..=(point.segment + 1).min(face.master.len() - 1)].iter().all(|&n| placed[n]))
@@ -622,8 +618,8 @@ fn place_contacts(state: &mut State, placed_before: &[bool]) {
             continue;
         }
         let point = &face.points[m.point];
-        let now = master_placed(&state.placed, face, point);
-        let before = !placed_before.is_empty() && master_placed(placed_before, face, point);
+        let now = in_place(&state.placed, face, point);
+        let before = !placed_before.is_empty() && in_place(placed_before, face, point);
         let point = &mut state.interfaces[m.interface].faces[m.face].points[m.point];
         match (before, now, &point.normal_state) {
             (_, false, NormalState::Active) => {
@@ -1409,7 +1405,7 @@ fn update_active_set(
         }
         let placed = {
             let face = &state.interfaces[m.interface].faces[m.face];
-            master_placed(&state.placed, face, &face.points[m.point])
+            in_place(&state.placed, face, &face.points[m.point])
         };
         let p = &mut state.interfaces[m.interface].faces[m.face].points[m.point];
         // A point that has already switched CHATTER_LIMIT times in this increment stays in contact:
