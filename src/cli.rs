@@ -229,6 +229,18 @@ struct Progress<'a> {
     verbosity: Verbosity,
 }
 
+impl Progress<'_> {
+    /// A line above the progress bar; a hidden bar (output not a terminal) prints nothing of its
+    /// own, so the line goes to standard error.
+    fn say(&self, line: String) {
+        if self.bar.is_hidden() {
+            eprintln!("{line}");
+        } else {
+            self.bar.println(line);
+        }
+    }
+}
+
 impl StepSink for Progress<'_> {
     fn step_done(
         &mut self,
@@ -265,12 +277,7 @@ impl StepSink for Progress<'_> {
                 record.state_changes.len(),
                 record.reassociations.len()
             );
-            // a hidden bar (output not a terminal) prints nothing of its own
-            if self.bar.is_hidden() {
-                eprintln!("{line}");
-            } else {
-                self.bar.println(line);
-            }
+            self.say(line);
         }
         Ok(())
     }
@@ -288,11 +295,7 @@ impl StepSink for Progress<'_> {
             ),
         };
         if self.verbosity != Verbosity::Quiet {
-            if self.bar.is_hidden() {
-                eprintln!("{line}");
-            } else {
-                self.bar.println(line);
-            }
+            self.say(line);
         }
         Ok(())
     }

@@ -236,11 +236,9 @@ pub fn reinforcement_balance(model: &Model, results: &StepResults, state: &State
             let between_layers = face.master.iter().all(|&n| !in_soil[n]);
             for point in &face.points {
                 let n = face.normal(&model.mesh, point.segment);
+                // the force on the slave node from the row: −λ·n (λ > 0 pushes it off the master)
                 let lambda = state.lambda[k];
                 k += 1;
-                // the force on the slave node from the row: −λ·n (λ > 0 pushes it off the master)
-                carried[0] -= lambda * n[0];
-                carried[1] -= lambda * n[1];
                 let t = point.tangent;
                 let shear_force = if interface.is_tie() {
                     let lt = state.lambda[k];
@@ -259,13 +257,11 @@ pub fn reinforcement_balance(model: &Model, results: &StepResults, state: &State
                         .unwrap_or(0.0);
                     tau * point.tributary
                 };
-                // the soil resists positive slip: force −τℓ·t on the slave
-                carried[0] -= shear_force * t[0];
-                carried[1] -= shear_force * t[1];
-                if between_layers {
-                    // the same force, reversed, on the layer beneath: nothing on the stack
-                    carried[0] += lambda * n[0] + shear_force * t[0];
-                    carried[1] += lambda * n[1] + shear_force * t[1];
+                // the soil resists positive slip: force −τℓ·t on the slave (between two layers of a
+                // stack the same force, reversed, acts on the layer beneath: nothing on the stack)
+                if !between_layers {
+                    carried[0] -= lambda * n[0] + shear_force * t[0];
+                    carried[1] -= lambda * n[1] + shear_force * t[1];
                 }
             }
         }
