@@ -17,8 +17,8 @@
 //! Distances are measured along the liner line from the toe (negative on the cell floor).
 
 use geoslip::analysis::results::StepResults;
-use geoslip::analysis::system::SolverStats;
 use geoslip::analysis::{FactorOfSafety, StepRecord, StepSink};
+use geoslip::linsol::linear_system::SolverStats;
 use geoslip::model::Model;
 use geoslip::output::plots::{write_figure, Panel};
 use geoslip::output::{run_and_write, write_atomically};

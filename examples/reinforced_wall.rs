@@ -18,8 +18,8 @@
 //! tributary height: T_max = K_a·(γ·z + q)·S_v, with K_a = tan²(45° − φ/2) for a vertical face.
 
 use geoslip::analysis::results::StepResults;
-use geoslip::analysis::system::SolverStats;
 use geoslip::analysis::{StepRecord, StepSink};
+use geoslip::linsol::linear_system::SolverStats;
 use geoslip::model::Model;
 use geoslip::output::plots::{write_figure, Panel};
 use geoslip::output::{run_and_write, write_atomically};

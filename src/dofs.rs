@@ -6,15 +6,23 @@
 //! per tangential row of every `tie` point, in a fixed order that does not change between stages.
 
 use crate::interface::Interface;
+pub use crate::interface::{multipliers, MultiplierRef};
 use crate::mesh::Mesh;
+use schemars::JsonSchema;
+use serde::{Deserialize, Serialize};
 
-/// Which row a multiplier belongs to.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct MultiplierRef {
-    pub interface: usize,
-    pub face: usize,
-    pub point: usize,
-    pub tangential: bool,
+/// A displacement direction (the model file's `direction`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize, JsonSchema)]
+pub enum Direction {
+    #[serde(rename = "x")]
+    X,
+    #[serde(rename = "y")]
+    Y,
+}
+
+/// The global DOF `2·node + d` of a node's displacement in a direction.
+pub fn dof(node: usize, d: Direction) -> usize {
+    2 * node + if d == Direction::X { 0 } else { 1 }
 }
 
 #[derive(Debug, Clone)]
@@ -23,22 +31,6 @@ pub struct DofMap {
     pub equation: Vec<Option<usize>>,
     pub free_count: usize,
     pub multipliers: Vec<MultiplierRef>,
-}
-
-/// The list of multipliers of a set of interfaces, in their fixed order.
-pub fn multipliers(interfaces: &[Interface]) -> Vec<MultiplierRef> {
-    let mut out = Vec::new();
-    for (i, interface) in interfaces.iter().enumerate() {
-        for (f, face) in interface.faces.iter().enumerate() {
-            for p in 0..face.points.len() {
-                out.push(MultiplierRef { interface: i, face: f, point: p, tangential: false });
-                if interface.is_tie() {
-                    out.push(MultiplierRef { interface: i, face: f, point: p, tangential: true });
-                }
-            }
-        }
-    }
-    out
 }
 
 impl DofMap {

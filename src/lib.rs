@@ -15,7 +15,6 @@
 
 pub mod analysis;
 pub mod assembly;
-pub mod bench;
 pub mod cli;
 pub mod dofs;
 pub mod element;

@@ -4,7 +4,7 @@
 //! ids after the largest one in the file). Every index stored here is valid by construction: the
 //! validator builds a `Mesh` only after every reference has been resolved.
 
-use crate::model::file::SolidKind;
+use crate::element::solid::SolidKind;
 use std::collections::HashMap;
 
 pub type NodeIndex = usize;

@@ -22,8 +22,8 @@
 //! the file. Every file is checked before the test fails, so one run lists every broken expectation.
 
 use geoslip::analysis::results::StepResults;
-use geoslip::analysis::system::SolverStats;
 use geoslip::analysis::{self, RunOptions, StepRecord, StepSink};
+use geoslip::linsol::linear_system::SolverStats;
 use geoslip::model::Model;
 use geoslip::Error;
 use std::panic::{catch_unwind, AssertUnwindSafe};

@@ -20,7 +20,7 @@
 //! repeated row makes the system consistent, return a solution that satisfies it (partial pivoting
 //! cannot certify a rank deficiency; geoslip's own diagnostics then name the free unknowns).
 
-use geoslip::assembly::{CscMatrix, PatternCache, Triplets};
+use geoslip::linsol::csc::{CscMatrix, PatternCache, Triplets};
 use geoslip::linsol::{self, Backend, Failure, LinearSolver};
 use proptest::prelude::*;
 

@@ -1,8 +1,11 @@
 //! What one converged step produced: displacements, reactions, bar forces, interface point results
 //! and soil stresses, with the sign conventions of docs/model-format.md.
 
-use super::system::{self, ElementMatrices, InterfaceRows};
-use super::State;
+pub use super::soil::ElementStress;
+use super::state::State;
+use crate::assembly::{internal_force, ElementMatrices, SoilView};
+use crate::element::soil_state::SoilTrial;
+use crate::interface::rows::{constraint_force, row_dofs, InterfaceRows};
 use crate::interface::ShearLaw;
 use crate::model::Model;
 
@@ -50,22 +53,6 @@ pub struct InterfacePointResult {
 }
 
 #[derive(Debug, Clone)]
-pub struct ElementStress {
-    pub element: u64,
-    pub point: usize,
-    pub x: [f64; 2],
-    /// σxx, σyy, τxy, σzz; tension positive.
-    pub stress: [f64; 4],
-    /// εxx, εyy, γxy since the element was placed; extension positive.
-    pub strain: [f64; 3],
-    /// Pore pressure, compression positive (the stresses above are effective: σ = σ′ − p).
-    pub pore_pressure: f64,
-    pub yield_state: crate::element::mohr_coulomb::YieldState,
-    /// Accumulated equivalent plastic strain.
-    pub plastic_strain: f64,
-}
-
-#[derive(Debug, Clone)]
 pub struct StepResults {
     /// (node id, reference position, displacement).
     pub displacements: Vec<(u64, [f64; 2], [f64; 2])>,
@@ -87,14 +74,14 @@ impl StepResults {
         taus: &[f64],
         sliding: &[bool],
         state: &State,
-        soil: &super::soil::SoilTrial,
+        soil: &SoilTrial,
         held: &[bool],
     ) -> Self {
         let mesh = &model.mesh;
         let n_dof = state.u.len();
-        let view = system::SoilView { field: &state.soil, trial: soil };
-        let f_int = system::internal_force(elements, view, rows, taus, &state.bars, &state.u);
-        let f_c = system::constraint_force(rows, &state.lambda, n_dof);
+        let view = SoilView { field: &state.soil, trial: soil };
+        let f_int = internal_force(elements, view, rows, taus, &state.bars, &state.u);
+        let f_c = constraint_force(rows, &state.lambda, n_dof);
         let reaction_vector: Vec<f64> =
             (0..n_dof).map(|d| if held[d] { f_int[d] + f_c[d] - state.f_ext[d] } else { 0.0 }).collect();
 
@@ -161,7 +148,7 @@ impl StepResults {
                         }
                     };
                     let slip = if interface.is_tie() {
-                        system::row_dofs(&face.tangential_row(point)).iter().map(|&(d, c)| c * state.u[d]).sum()
+                        row_dofs(&face.tangential_row(point)).iter().map(|&(d, c)| c * state.u[d]).sum()
                     } else {
                         point.shear.slip
                     };

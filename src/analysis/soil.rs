@@ -11,45 +11,12 @@
 //!   the committed state with the rest of the run's state.
 
 use crate::element::mohr_coulomb::{self, MohrCoulomb, YieldState};
+use crate::element::soil_state::WaterTable;
+pub use crate::element::soil_state::{element_force, ElementState, PointState, SoilField, SoilTrial, Tangent};
 use crate::element::solid::{self, Integration, MappedPoint, PlaneStrain};
-use crate::model::{Model, WaterTable};
+use crate::model::Model;
 use nalgebra::DMatrix;
 use rayon::prelude::*;
-
-/// The state of one Gauss point.
-#[derive(Debug, Clone, Copy, Default)]
-pub struct PointState {
-    /// Effective stress σ′xx, σ′yy, τxy, σ′zz; tension positive.
-    pub stress: [f64; 4],
-    /// Accumulated equivalent plastic strain.
-    pub plastic_strain: f64,
-    pub yield_state: YieldState,
-}
-
-/// The state of one soil element.
-#[derive(Debug, Clone, Default)]
-pub struct ElementState {
-    pub active: bool,
-    /// Element displacements when the element was placed or given its initial stresses: its
-    /// strains count from here. `None`: zero.
-    pub placed: Option<Vec<f64>>,
-    /// Effective stress at each Gauss point: the committed state of a Mohr–Coulomb element, the
-    /// reference stress σ′₀ of a linear-elastic one. Empty: zero everywhere.
-    pub points: Vec<PointState>,
-    /// Linear-elastic elements: ∫Bᵀσ′₀ dA.
-    pub reference_force: Option<Vec<f64>>,
-    /// Pore pressure at each Gauss point (empty: dry).
-    pub pore: Vec<f64>,
-    /// ∫Bᵀm·p dA.
-    pub pore_force: Option<Vec<f64>>,
-}
-
-/// Every soil element's state, and the water table in force.
-#[derive(Debug, Clone, Default)]
-pub struct SoilField {
-    pub elements: Vec<ElementState>,
-    pub water: Option<WaterTable>,
-}
 
 /// What does not change through a run: each element's laws, its DOFs, and the Gauss points of the
 /// Mohr–Coulomb elements (mapped once).
@@ -433,30 +400,6 @@ fn vertical_chord(poly: &[[f64; 2]], x: f64) -> Option<(f64, f64)> {
     (hi >= lo).then_some((lo, hi))
 }
 
-/// Which tangent the Mohr–Coulomb elements give the matrix.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Tangent {
-    /// The consistent tangent (unsymmetric when ψ ≠ φ).
-    Consistent,
-    /// Its symmetric part.
-    Symmetric,
-    /// The elastic matrix (constant stiffness).
-    Elastic,
-}
-
-/// The Mohr–Coulomb elements at the current iterate.
-#[derive(Debug, Clone, Default)]
-pub struct SoilTrial {
-    /// Per soil element: the internal force ∫Bᵀσ′ dA of a present Mohr–Coulomb element.
-    pub forces: Vec<Option<Vec<f64>>>,
-    /// Per soil element: its tangent where it differs from the elastic matrix.
-    pub tangents: Vec<Option<DMatrix<f64>>>,
-    /// Per soil element: the updated Gauss-point states.
-    pub points: Vec<Option<Vec<PointState>>>,
-    /// Gauss points on the yield surface.
-    pub yielding: usize,
-}
-
 /// Update every present Mohr–Coulomb element for the displacements since the last converged
 /// increment.
 pub fn evaluate(setup: &SoilSetup, field: &SoilField, u: &[f64], u_committed: &[f64], tangent: Tangent) -> SoilTrial {
@@ -531,58 +474,29 @@ pub fn commit(field: &mut SoilField, trial: &SoilTrial) {
     }
 }
 
-/// The soil's part of the internal force of element `s` (with element displacements `u_e`), added
-/// into `f` at the element's local positions: the Mohr–Coulomb force, or K_e·(u_e − u₀) + ∫Bᵀσ′₀,
-/// less ∫Bᵀm·p. Returns false for an absent element.
-pub fn element_force(
-    field: &SoilField,
-    trial: &SoilTrial,
-    s: usize,
-    k: &DMatrix<f64>,
-    u_e: &[f64],
-    f: &mut [f64],
-) -> bool {
-    let state = &field.elements[s];
-    if !state.active {
-        return false;
-    }
-    match trial.forces.get(s).and_then(|f| f.as_ref()) {
-        Some(force) => {
-            for (a, v) in force.iter().enumerate() {
-                f[a] += v;
-            }
-        }
-        None => {
-            let n = u_e.len();
-            for a in 0..n {
-                let mut sum = 0.0;
-                for b in 0..n {
-                    let placed = state.placed.as_ref().map_or(0.0, |p| p[b]);
-                    sum += k[(a, b)] * (u_e[b] - placed);
-                }
-                f[a] += sum;
-            }
-            if let Some(r) = &state.reference_force {
-                for (a, v) in r.iter().enumerate() {
-                    f[a] += v;
-                }
-            }
-        }
-    }
-    if let Some(p) = &state.pore_force {
-        for (a, v) in p.iter().enumerate() {
-            f[a] -= v;
-        }
-    }
-    true
+/// One Gauss point's results.
+#[derive(Debug, Clone)]
+pub struct ElementStress {
+    pub element: u64,
+    pub point: usize,
+    pub x: [f64; 2],
+    /// σxx, σyy, τxy, σzz; tension positive.
+    pub stress: [f64; 4],
+    /// εxx, εyy, γxy since the element was placed; extension positive.
+    pub strain: [f64; 3],
+    /// Pore pressure, compression positive (the stresses above are effective: σ = σ′ − p).
+    pub pore_pressure: f64,
+    pub yield_state: crate::element::mohr_coulomb::YieldState,
+    /// Accumulated equivalent plastic strain.
+    pub plastic_strain: f64,
 }
 
 /// The Gauss-point results of every present element: effective stress, strain since placement,
 /// pore pressure and yield state.
-pub fn gauss_results(model: &Model, field: &SoilField, u: &[f64]) -> Vec<super::results::ElementStress> {
+pub fn gauss_results(model: &Model, field: &SoilField, u: &[f64]) -> Vec<ElementStress> {
     let mesh = &model.mesh;
     let rule = model.integration();
-    let per_element: Vec<Vec<super::results::ElementStress>> = (0..mesh.solids.len())
+    let per_element: Vec<Vec<ElementStress>> = (0..mesh.solids.len())
         .into_par_iter()
         .map(|s| {
             let state = &field.elements[s];
@@ -613,7 +527,7 @@ pub fn gauss_results(model: &Model, field: &SoilField, u: &[f64]) -> Vec<super::
                         let d = mohr_coulomb::trial_stress(&elastic, s0, eps);
                         [d[0], d[1], d[2], d[3]]
                     };
-                    super::results::ElementStress {
+                    ElementStress {
                         element: e.id,
                         point: g + 1,
                         x: p.x,

@@ -2,4 +2,5 @@
 
 pub mod bar;
 pub mod mohr_coulomb;
+pub mod soil_state;
 pub mod solid;

@@ -212,6 +212,11 @@ fn candidate_sets() -> Vec<Vec<usize>> {
 
 /// Update the stress of one point for a strain increment `d_strain` (εxx, εyy, γxy) from its
 /// committed stress, and give the consistent tangent.
+///
+/// One function of some 170 lines on purpose: the trial state in sorted principal axes, the search
+/// over the sets of active planes, the plastic strain and the consistent tangent with its spin term
+/// share every intermediate, and the steps follow the module's references in the order they are
+/// written there; split, they would pass a dozen matrices between them.
 pub fn update(law: &MohrCoulomb, elastic: &PlaneStrain, committed: [f64; 4], d_strain: [f64; 3]) -> StressUpdate {
     let trial = trial_stress(elastic, committed, d_strain);
     let d = elastic.d_matrix();

@@ -3,8 +3,19 @@
 //! Stiffness K_e = ∫ Bᵀ D B dA per metre width, integrated with a Gauss rule that is exact for
 //! undistorted elements (1 point for tri3, 3 for tri6, 2×2 for quad4, 3×3 for quad8).
 
-use crate::model::file::SolidKind;
 use nalgebra::{DMatrix, DVector, Matrix3};
+use schemars::JsonSchema;
+use serde::{Deserialize, Serialize};
+
+/// The soil element types (the model file's `kind`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum SolidKind {
+    Tri3,
+    Tri6,
+    Quad4,
+    Quad8,
+}
 
 /// Plane-strain linear elasticity: σ = D ε with ε = (εxx, εyy, γxy).
 #[derive(Debug, Clone, Copy)]

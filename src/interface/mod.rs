@@ -10,8 +10,12 @@
 //! A point's association (segment, ξ) and state are kept so that the slip mechanics can release a
 //! row (it stays in the pattern with a unit diagonal), and re-associate the point as it slides.
 
-pub mod build;
+pub mod active_set;
 pub mod law;
+pub mod pair;
+pub mod reassociate;
+pub mod rows;
+pub mod split;
 
 use crate::mesh::{Mesh, NodeIndex};
 pub use law::{ShearLaw, ShearResponse, ShearState};
@@ -106,6 +110,31 @@ pub struct Interface {
     /// For the slit that a reinforcement leaves behind its tail as it slides: the index of that
     /// reinforcement's interface. The slit's two soil faces come into contact as they are uncovered.
     pub slit_of: Option<usize>,
+}
+
+/// Which row a multiplier belongs to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct MultiplierRef {
+    pub interface: usize,
+    pub face: usize,
+    pub point: usize,
+    pub tangential: bool,
+}
+
+/// The list of multipliers of a set of interfaces, in their fixed order.
+pub fn multipliers(interfaces: &[Interface]) -> Vec<MultiplierRef> {
+    let mut out = Vec::new();
+    for (i, interface) in interfaces.iter().enumerate() {
+        for (f, face) in interface.faces.iter().enumerate() {
+            for p in 0..face.points.len() {
+                out.push(MultiplierRef { interface: i, face: f, point: p, tangential: false });
+                if interface.is_tie() {
+                    out.push(MultiplierRef { interface: i, face: f, point: p, tangential: true });
+                }
+            }
+        }
+    }
+    out
 }
 
 /// A row over displacement DOFs: `(node, [coefficient on ux, coefficient on uy])`.
@@ -214,4 +243,91 @@ pub fn project(mesh: &Mesh, path: &[NodeIndex], x: [f64; 2]) -> (usize, f64, f64
         }
     }
     (best.0, best.1, best.2, best.4)
+}
+
+/// One thing wrong with the geometry of an interface's input: the place in the interface's own
+/// input (`path[3]`, `master[2..3]`, `master_normal`) and what is wrong there.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GeometryProblem {
+    pub place: String,
+    pub message: String,
+}
+
+/// The problems found while building one interface's geometry.
+#[derive(Debug, Default)]
+pub struct GeometryProblems(pub Vec<GeometryProblem>);
+
+impl GeometryProblems {
+    pub fn push(&mut self, place: impl Into<String>, message: impl Into<String>) {
+        self.0.push(GeometryProblem { place: place.into(), message: message.into() });
+    }
+
+    /// `Err` with every problem found so far, if there is one.
+    pub fn check(&mut self) -> Result<(), Vec<GeometryProblem>> {
+        if self.0.is_empty() {
+            Ok(())
+        } else {
+            Err(std::mem::take(&mut self.0))
+        }
+    }
+}
+
+pub(crate) fn sub(a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
+    [a[0] - b[0], a[1] - b[1]]
+}
+
+pub(crate) fn cross(a: [f64; 2], b: [f64; 2]) -> f64 {
+    a[0] * b[1] - a[1] * b[0]
+}
+
+pub(crate) fn unit(a: [f64; 2]) -> [f64; 2] {
+    let l = (a[0] * a[0] + a[1] * a[1]).sqrt();
+    [a[0] / l, a[1] / l]
+}
+
+/// Slip directions (towards the first node) and tributary lengths of a slave line.
+fn slave_line_geometry(mesh: &Mesh, line: &[NodeIndex]) -> Vec<([f64; 2], f64)> {
+    let m = line.len();
+    (0..m)
+        .map(|k| {
+            let prev = if k > 0 { Some(sub(mesh.position(line[k - 1]), mesh.position(line[k]))) } else { None };
+            let next = if k + 1 < m { Some(sub(mesh.position(line[k]), mesh.position(line[k + 1]))) } else { None };
+            let len = |v: Option<[f64; 2]>| v.map(|v| (v[0] * v[0] + v[1] * v[1]).sqrt()).unwrap_or(0.0);
+            let dir = match (prev, next) {
+                (Some(p), Some(n)) => {
+                    let (p, n) = (unit(p), unit(n));
+                    unit([p[0] + n[0], p[1] + n[1]])
+                }
+                (Some(p), None) => unit(p),
+                (None, Some(n)) => unit(n),
+                (None, None) => [1.0, 0.0],
+            };
+            (dir, 0.5 * (len(prev) + len(next)))
+        })
+        .collect()
+}
+
+/// The slave points of `slave` on a face whose master path is `face_master`, each associated with
+/// the segment it projects onto, in contact, with no slip yet.
+pub(crate) fn points_on(mesh: &Mesh, face_master: &[NodeIndex], slave: &[NodeIndex]) -> Vec<ContactPoint> {
+    slave_line_geometry(mesh, slave)
+        .into_iter()
+        .zip(slave)
+        .map(|((tangent, tributary), &s)| {
+            let (segment, xi, _, _) = project(mesh, face_master, mesh.position(s));
+            ContactPoint {
+                slave: s,
+                tangent,
+                tributary,
+                segment,
+                xi,
+                normal_state: NormalState::Active,
+                tangential_state: NormalState::Active,
+                gap0: 0.0,
+                shear: Default::default(),
+                slit_tip: false,
+                reserved: None,
+            }
+        })
+        .collect()
 }

@@ -6,8 +6,8 @@
 //! remaining unknowns are not determined: they are reported as singular.
 
 use super::{Backend, Failure, LinearSolver};
-use crate::assembly::CscMatrix;
 use crate::error::SolveError;
+use crate::linsol::csc::CscMatrix;
 
 /// Largest system the reference solver accepts (O(n³) work, n² memory).
 pub const SIZE_LIMIT: usize = 3000;
@@ -128,7 +128,7 @@ impl LinearSolver for DenseReference {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::assembly::{PatternCache, Triplets};
+    use crate::linsol::csc::{PatternCache, Triplets};
 
     fn matrix(rows: &[&[f64]]) -> CscMatrix {
         let mut t = Triplets::default();

@@ -5,8 +5,8 @@
 //! handles the zero block and the zero-stiffness DOFs.
 
 use super::{Backend, Failure, LinearSolver};
-use crate::assembly::{CscMatrix, CscPattern};
 use crate::error::SolveError;
+use crate::linsol::csc::{CscMatrix, CscPattern};
 use faer::linalg::solvers::Solve;
 use faer::sparse::linalg::solvers::{Lu, SymbolicLu};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
@@ -74,7 +74,7 @@ mod tests {
     //! faer on the saddle-point structure of the paper's Eq. (5): the multiplier block is exactly zero
     //! and K has a zero-stiffness DOF (a bar node's transverse DOF, held only by a multiplier).
     use super::*;
-    use crate::assembly::{PatternCache, Triplets};
+    use crate::linsol::csc::{PatternCache, Triplets};
     use crate::linsol::dense_ref::DenseReference;
 
     /// Unknowns: u0 (bar node, axial), u1 (bar node, transverse: K = 0), u2 (soil node, vertical),

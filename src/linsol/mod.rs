@@ -3,16 +3,18 @@
 //! The symbolic analysis (`analyse`) is done once per sparsity pattern and reused; the numeric
 //! factorisation (`factorize`) once per set of values; `solve` once per right-hand side.
 
+pub mod csc;
 pub mod dense_ref;
 pub mod faer_lu;
+pub mod linear_system;
 #[allow(unsafe_code)]
 pub mod native;
 
 #[cfg(all(geoslip_mumps, feature = "mpi"))]
 pub use native::cluster;
 
-use crate::assembly::CscMatrix;
 use crate::error::SolveError;
+use csc::CscMatrix;
 
 /// Backends that can be asked for on the command line.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]

@@ -9,6 +9,10 @@ use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
+// Types the core defines and the file format uses as they are.
+pub use crate::dofs::Direction;
+pub use crate::element::solid::SolidKind;
+
 /// A complete geoslip model.
 #[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
@@ -285,15 +289,6 @@ pub struct ReinforcementMaterial {
 #[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 pub struct NodeRow(pub u64, pub f64, pub f64);
 
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
-#[serde(rename_all = "lowercase")]
-pub enum SolidKind {
-    Tri3,
-    Tri6,
-    Quad4,
-    Quad8,
-}
-
 #[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SolidElementRow {
@@ -345,14 +340,6 @@ impl PrescribedDisplacement {
     pub fn target(&self) -> NodeTarget<'_> {
         NodeTarget { node: self.node, nodes: self.nodes.as_deref(), set: self.set.as_deref() }
     }
-}
-
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize, JsonSchema)]
-pub enum Direction {
-    #[serde(rename = "x")]
-    X,
-    #[serde(rename = "y")]
-    Y,
 }
 
 #[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]

@@ -10,7 +10,7 @@
 //! Elements that Gmsh wrote clockwise (a surface whose curve loop runs clockwise) are renumbered
 //! counter-clockwise, and the run's notes say how many.
 
-use super::file::{ModelFile, NodeRow, SolidElementRow, SolidKind};
+use super::file::{MeshSource, ModelFile, NodeRow, SolidElementRow, SolidKind};
 use super::problems::Problems;
 use crate::gmsh::{GeneratedMesh, GmshElement, GmshKind, GmshMesh};
 use std::collections::{BTreeMap, BTreeSet, HashMap};
@@ -57,7 +57,74 @@ pub(super) fn import(source: &Path, file: &mut ModelFile, p: &mut Problems) -> O
         return None;
     }
 
-    // Soil elements from the physical surfaces named in `mesh.materials`.
+    let SoilElements { flipped, used, corner_edges, coords } = soil_elements(&mesh, &spec, file, p, &shown);
+    nodes(&mesh, &used, file, p, &shown);
+
+    // Named sets from physical curves and points.
+    let mut lines_of: BTreeMap<&str, Vec<&GmshElement>> = BTreeMap::new();
+    let mut points_of: BTreeMap<&str, Vec<u64>> = BTreeMap::new();
+    for e in &mesh.elements {
+        for &g in &e.groups {
+            let name = mesh.groups[g].name.as_str();
+            match e.kind {
+                GmshKind::Line2 | GmshKind::Line3 => lines_of.entry(name).or_default().push(e),
+                GmshKind::Point => points_of.entry(name).or_default().extend(e.nodes.iter().copied()),
+                _ => {}
+            }
+        }
+    }
+    // A curve inside the soil (a reinforcement line) gives a node set only: tractions act on the boundary.
+    let boundary_edge = |a: u64, b: u64| corner_edges.get(&(a.min(b), a.max(b))) == Some(&1);
+    for (name, elements) in &lines_of {
+        let edges: Vec<Vec<u64>> = elements.iter().map(|e| e.nodes.clone()).collect();
+        let on_boundary = edges.iter().all(|e| boundary_edge(e[0], e[1]));
+        let mut nodes: Vec<u64> = edges.iter().flatten().copied().collect();
+        nodes.sort_unstable();
+        nodes.dedup();
+        add_set(file, p, name, nodes, on_boundary.then_some(edges), &shown);
+    }
+    for (name, nodes) in &points_of {
+        let mut nodes = nodes.clone();
+        nodes.sort_unstable();
+        nodes.dedup();
+        add_set(file, p, name, nodes, None, &shown);
+    }
+
+    reinforcement_paths(file, p, &lines_of, &coords, &corner_edges, &shown);
+
+    let mut groups: Vec<(usize, String)> = mesh.groups.iter().map(|g| (g.dim, g.name.clone())).collect();
+    groups.sort();
+    Some(MeshRecord {
+        file: path,
+        format: mesh.format.clone(),
+        generated,
+        nodes: file.nodes.len(),
+        soil_elements: file.elements.len(),
+        flipped,
+        groups,
+    })
+}
+
+/// What reading the soil elements found out about the mesh.
+struct SoilElements {
+    /// Elements Gmsh wrote clockwise, renumbered counter-clockwise.
+    flipped: usize,
+    /// The nodes the soil elements use.
+    used: BTreeSet<u64>,
+    /// How many soil elements share each corner edge (1: the soil's boundary).
+    corner_edges: HashMap<(u64, u64), usize>,
+    coords: HashMap<u64, [f64; 3]>,
+}
+
+/// Soil elements from the physical surfaces named in `mesh.materials`; every physical surface is
+/// an element set too.
+fn soil_elements(
+    mesh: &GmshMesh,
+    spec: &MeshSource,
+    file: &mut ModelFile,
+    p: &mut Problems,
+    shown: &str,
+) -> SoilElements {
     let surfaces: BTreeMap<&str, usize> =
         mesh.groups.iter().enumerate().filter(|(_, g)| g.dim == 2).map(|(i, g)| (g.name.as_str(), i)).collect();
     let mut material_of: HashMap<usize, &str> = HashMap::new();
@@ -150,8 +217,11 @@ pub(super) fn import(source: &Path, file: &mut ModelFile, p: &mut Problems) -> O
     if file.elements.is_empty() && p.is_empty() {
         p.push("mesh.file", None, format!("{shown} has no surface elements in a physical surface"));
     }
+    SoilElements { flipped, used, corner_edges, coords }
+}
 
-    // Nodes: those the soil uses, x–y plane only.
+/// Nodes: those the soil uses, x–y plane only.
+fn nodes(mesh: &GmshMesh, used: &BTreeSet<u64>, file: &mut ModelFile, p: &mut Problems, shown: &str) {
     let extent = mesh.nodes.iter().fold(0.0f64, |m, (_, x)| m.max(x[0].abs()).max(x[1].abs()));
     let mut seen = BTreeSet::new();
     for (tag, x) in &mesh.nodes {
@@ -174,38 +244,18 @@ pub(super) fn import(source: &Path, file: &mut ModelFile, p: &mut Problems) -> O
             format!("{shown}: an element uses node {tag}, which the file does not list"),
         );
     }
+}
 
-    // Named sets from physical curves and points.
-    let mut lines_of: BTreeMap<&str, Vec<&GmshElement>> = BTreeMap::new();
-    let mut points_of: BTreeMap<&str, Vec<u64>> = BTreeMap::new();
-    for e in &mesh.elements {
-        for &g in &e.groups {
-            let name = mesh.groups[g].name.as_str();
-            match e.kind {
-                GmshKind::Line2 | GmshKind::Line3 => lines_of.entry(name).or_default().push(e),
-                GmshKind::Point => points_of.entry(name).or_default().extend(e.nodes.iter().copied()),
-                _ => {}
-            }
-        }
-    }
-    // A curve inside the soil (a reinforcement line) gives a node set only: tractions act on the boundary.
-    let boundary_edge = |a: u64, b: u64| corner_edges.get(&(a.min(b), a.max(b))) == Some(&1);
-    for (name, elements) in &lines_of {
-        let edges: Vec<Vec<u64>> = elements.iter().map(|e| e.nodes.clone()).collect();
-        let on_boundary = edges.iter().all(|e| boundary_edge(e[0], e[1]));
-        let mut nodes: Vec<u64> = edges.iter().flatten().copied().collect();
-        nodes.sort_unstable();
-        nodes.dedup();
-        add_set(file, p, name, nodes, on_boundary.then_some(edges), &shown);
-    }
-    for (name, nodes) in &points_of {
-        let mut nodes = nodes.clone();
-        nodes.sort_unstable();
-        nodes.dedup();
-        add_set(file, p, name, nodes, None, &shown);
-    }
-
-    // Reinforcement lines → paths.
+/// Reinforcement lines → paths, from the head (the end on the soil's boundary, or the one nearest
+/// `head`) to the tail.
+fn reinforcement_paths(
+    file: &mut ModelFile,
+    p: &mut Problems,
+    lines_of: &BTreeMap<&str, Vec<&GmshElement>>,
+    coords: &HashMap<u64, [f64; 3]>,
+    corner_edges: &HashMap<(u64, u64), usize>,
+    shown: &str,
+) {
     let on_boundary = |n: u64| corner_edges.iter().any(|(&(a, b), &count)| count == 1 && (a == n || b == n));
     for (k, spec) in file.interfaces.iter_mut().enumerate() {
         let Some(r) = spec.reinforcement.as_mut() else { continue };
@@ -262,18 +312,6 @@ pub(super) fn import(source: &Path, file: &mut ModelFile, p: &mut Problems) -> O
             }
         }
     }
-
-    let mut groups: Vec<(usize, String)> = mesh.groups.iter().map(|g| (g.dim, g.name.clone())).collect();
-    groups.sort();
-    Some(MeshRecord {
-        file: path,
-        format: mesh.format.clone(),
-        generated,
-        nodes: file.nodes.len(),
-        soil_elements: file.elements.len(),
-        flipped,
-        groups,
-    })
 }
 
 fn list<'a>(names: impl Iterator<Item = &'a &'a str>) -> String {

@@ -6,9 +6,12 @@ pub mod import;
 pub mod problems;
 mod validate;
 
+pub use crate::element::soil_state::WaterTable;
 use crate::error::{Error, ModelError};
 use crate::interface::Interface;
 use crate::mesh::{Mesh, NodeIndex};
+// The `[analysis]` settings are checked as the file gives them: the run reads them from here.
+pub use file::{AnalysisSettings, ReassociationRule, Scheme};
 use file::{Direction, ModelFile, ReinforcementMaterial, SoilMaterial, Units};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -91,37 +94,6 @@ pub struct StrengthReduction {
     pub soil: bool,
     pub tolerance: f64,
     pub max_factor: f64,
-}
-
-/// A phreatic line and the unit weight of water: hydrostatic pore pressure p = γw·(h(x) − y) below
-/// it, zero above.
-#[derive(Debug, Clone, PartialEq)]
-pub struct WaterTable {
-    /// `[x, y]` points with x increasing (one point: a horizontal table).
-    pub line: Vec<[f64; 2]>,
-    pub unit_weight: f64,
-}
-
-impl WaterTable {
-    /// Elevation of the phreatic line at `x` (constant beyond its ends).
-    pub fn level_at(&self, x: f64) -> f64 {
-        let l = &self.line;
-        if x <= l[0][0] {
-            return l[0][1];
-        }
-        for w in l.windows(2) {
-            if x <= w[1][0] {
-                let t = (x - w[0][0]) / (w[1][0] - w[0][0]);
-                return w[0][1] + t * (w[1][1] - w[0][1]);
-            }
-        }
-        l[l.len() - 1][1]
-    }
-
-    /// Pore pressure at (x, y), compression positive.
-    pub fn pressure(&self, p: [f64; 2]) -> f64 {
-        (self.unit_weight * (self.level_at(p[0]) - p[1])).max(0.0)
-    }
 }
 
 impl Model {

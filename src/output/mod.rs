@@ -10,9 +10,9 @@ pub mod series;
 pub mod vtk;
 
 use crate::analysis::results::StepResults;
-use crate::analysis::system::SolverStats;
 use crate::analysis::{StepRecord, StepSink};
 use crate::error::Error;
+use crate::linsol::linear_system::SolverStats;
 use crate::model::file::Direction;
 use crate::model::{Model, UnitLabels};
 use std::io::Write;
@@ -22,6 +22,24 @@ use std::path::{Path, PathBuf};
 /// and factor of safety to `observe` as well (an example's own post-processing). Returns the run's
 /// wall time in seconds; a failed run still finishes its summary and report before the error.
 pub fn run_and_write(model: &Model, out: &Path, observe: &mut dyn StepSink) -> Result<f64, Error> {
+    let mut writer = ResultWriter::new(model, out, "auto")?;
+    let options = crate::analysis::RunOptions::for_model(model, crate::linsol::Backend::Auto);
+    write_run(model, &options, &mut writer, observe)
+}
+
+/// Run `model` with `options`, every step and factor of safety written by `writer` as soon as it
+/// exists and passed to `observe` as well (a progress display, an example's post-processing); then
+/// the summary and the report. This is the one path from a model to its results, for the command
+/// line and the examples alike. Returns the run's wall time in seconds.
+///
+/// # Errors
+/// The run's error, after the summary and the report have recorded it (or the error writing them).
+pub fn write_run(
+    model: &Model,
+    options: &crate::analysis::RunOptions,
+    writer: &mut ResultWriter,
+    observe: &mut dyn StepSink,
+) -> Result<f64, Error> {
     struct Tee<'a> {
         writer: &'a mut ResultWriter,
         observe: &'a mut dyn StepSink,
@@ -37,9 +55,7 @@ pub fn run_and_write(model: &Model, out: &Path, observe: &mut dyn StepSink) -> R
         }
     }
     let started = std::time::Instant::now();
-    let mut writer = ResultWriter::new(model, out, "auto")?;
-    let options = crate::analysis::RunOptions::for_model(model, crate::linsol::Backend::Auto);
-    let result = crate::analysis::run(model, &options, &mut Tee { writer: &mut writer, observe });
+    let result = crate::analysis::run(model, options, &mut Tee { writer: &mut *writer, observe });
     let seconds = started.elapsed().as_secs_f64();
     match result {
         Ok(stats) => writer.finish(model, None, Some(stats), seconds)?,

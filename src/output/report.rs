@@ -13,6 +13,15 @@ pub fn markdown(
     figures: &[(String, String)],
 ) -> String {
     let mut r = String::new();
+    model_section(&mut r, model, summary, units);
+    key_results(&mut r, summary, history, units, figures);
+    run_history(&mut r, summary);
+    let _ = writeln!(r, "\nEvery step's files are in `stage-<k>-<name>/step-<nnn>/`; `history.csv` holds the curves, `summary.json` all of the above.");
+    r
+}
+
+/// The title, the run's facts and the model: its size, mesh, interfaces and analysis settings.
+fn model_section(r: &mut String, model: &Model, summary: &RunSummary, units: &crate::model::UnitLabels) {
     let _ =
         writeln!(r, "# geoslip run report: {}", if summary.title.is_empty() { &summary.model } else { &summary.title });
     let _ = writeln!(r);
@@ -81,7 +90,16 @@ pub fn markdown(
         "\nIteration: `{:?}`, re-association `{:?}`, force tolerance {:e}, at most {} iterations and {} cutbacks per increment.",
         a.scheme, a.reassociation, a.force_tolerance, a.max_iterations, a.max_cutbacks
     );
+}
 
+/// The key results (the peak of each curve, the factors of safety, the last step) and the figures.
+fn key_results(
+    r: &mut String,
+    summary: &RunSummary,
+    history: &[Vec<String>],
+    units: &crate::model::UnitLabels,
+    figures: &[(String, String)],
+) {
     let _ = writeln!(r, "\n## Key results\n");
     if history.is_empty() {
         let _ = writeln!(r, "No prescribed displacement is followed in this model.");
@@ -144,7 +162,10 @@ At F = {f:.4}: {why}."
     for (stem, caption) in figures {
         let _ = writeln!(r, "\n![{caption}]({stem}.png)\n\n*{caption}* ([SVG]({stem}.svg))");
     }
+}
 
+/// Events, warnings, the convergence history and the re-associations.
+fn run_history(r: &mut String, summary: &RunSummary) {
     let _ = writeln!(r, "\n## Events\n");
     if summary.events.is_empty() {
         let _ = writeln!(r, "None.");
@@ -209,6 +230,4 @@ At F = {f:.4}: {why}."
             ra.xi
         );
     }
-    let _ = writeln!(r, "\nEvery step's files are in `stage-<k>-<name>/step-<nnn>/`; `history.csv` holds the curves, `summary.json` all of the above.");
-    r
 }

@@ -12,8 +12,8 @@
 //! INFOG(1) = −8 or −9 ICNTL(14) is doubled and only the factorisation is redone, a bounded number of
 //! times.
 
-use crate::assembly::CscMatrix;
 use crate::error::SolveError;
+use crate::linsol::csc::CscMatrix;
 use crate::linsol::native::mumps_message;
 use crate::linsol::{available_memory_mb, resident_memory_mb, Backend, Failure, LinearSolver, Ordering, SolverOptions};
 use geoslip_sys::mumps as ffi;
@@ -419,7 +419,7 @@ mod tests {
     //! MUMPS's own error paths: the memory-retry path (forced with a tiny ICNTL(14)) and the
     //! null-pivot list of a singular matrix.
     use super::*;
-    use crate::assembly::{PatternCache, Triplets};
+    use crate::linsol::csc::{PatternCache, Triplets};
 
     /// A chain of springs whose every node is tied to the next by a multiplier: many zero diagonal
     /// entries, so pivots are delayed and the workspace estimate is tight.

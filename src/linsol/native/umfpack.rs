@@ -6,8 +6,8 @@
 //! precomputed triplet → CSC map), so nothing is re-sorted here. A singular-matrix warning is an
 //! error.
 
-use crate::assembly::CscMatrix;
 use crate::error::SolveError;
+use crate::linsol::csc::CscMatrix;
 use crate::linsol::native::umfpack_message;
 use crate::linsol::{Backend, Failure, LinearSolver};
 use geoslip_sys::umfpack as ffi;

@@ -14,7 +14,7 @@
 //! master face, so the resistance falls smoothly as the embedded length shrinks. The law state
 //! (slip, plastic slip, post-peak flag) is carried across.
 
-use crate::interface::{ContactFace, Interface, NormalState};
+use super::{ContactFace, Interface, NormalState};
 use crate::mesh::{Mesh, NodeIndex};
 
 /// One point moved to another master segment.

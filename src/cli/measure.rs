@@ -10,7 +10,7 @@
 //! conversion, copies) and the residual check.
 
 use crate::analysis;
-use crate::assembly::{CscMatrix, PatternCache};
+use crate::linsol::csc::{CscMatrix, PatternCache};
 use crate::linsol::{self, Backend};
 use crate::meshgen::PullOutBox;
 use crate::model::Model;
@@ -250,7 +250,7 @@ impl analysis::StepSink for Counter {
         &mut self,
         step: &analysis::results::StepResults,
         record: &analysis::StepRecord,
-        _: &analysis::system::SolverStats,
+        _: &crate::linsol::linear_system::SolverStats,
     ) -> Result<(), crate::Error> {
         self.increments += 1;
         self.reassociations += record.reassociations.len();

@@ -1,0 +1,137 @@
+//! What a run keeps from its start to its end: the model and the options, the element matrices and
+//! the soil's laws (computed once), the linear system with its reuse bookkeeping, and what the
+//! stages have added up so far (held DOFs, gravity, the weight in the applied force).
+
+use super::options::RunOptions;
+use super::soil::SoilSetup;
+use crate::assembly::ElementMatrices;
+use crate::dofs::{dof, DofMap};
+use crate::element::bar::BarMaterial;
+use crate::error::{Error, MemoryShortfall, SolveError};
+use crate::interface::active_set::ActiveSet;
+use crate::linsol::linear_system::LinearSystem;
+use crate::model::{Model, Scheme};
+
+/// The run's context: passed to every step instead of a long list of parameters.
+pub struct Context<'a> {
+    pub model: &'a Model,
+    pub options: &'a RunOptions,
+    pub elements: ElementMatrices,
+    /// The soil's laws (reduced by a strength-reduction search while it runs).
+    pub setup: SoilSetup,
+    pub system: LinearSystem,
+    /// Nodes that belong to no soil element (reinforcement nodes): their transverse DOF has no
+    /// stiffness of its own.
+    pub bar_only: Vec<bool>,
+    /// DOFs held by the supports and by the prescribed displacements of the stages so far.
+    pub held: Vec<bool>,
+    /// The sum of the gravity factors of the stages so far.
+    pub gravity: f64,
+    /// The soil's weight and the boundary water pressure now in the applied force.
+    pub applied_weight: Vec<f64>,
+}
+
+impl<'a> Context<'a> {
+    /// Check the memory, compute the element matrices and set up the soil and the solver.
+    ///
+    /// # Errors
+    /// [`SolveError::OutOfMemory`] when the model alone would not fit, and the backend's error when
+    /// it cannot be started; both at the first stage's first step.
+    pub fn new(model: &'a Model, options: &'a RunOptions) -> Result<Context<'a>, Error> {
+        let at_start =
+            |source| Error::Solve { file: model.source.clone(), stage: model.stages[0].name.clone(), step: 1, source };
+        check_memory(model, options).map_err(at_start)?;
+        let setup = SoilSetup::new(model);
+        let elements = element_matrices(model, &setup);
+        let system = LinearSystem::new(options.backend, options.analysis.scheme != Scheme::Newton, &options.solver)
+            .map_err(at_start)?;
+        let dof_count = 2 * model.mesh.nodes.len();
+        let mut held = vec![false; dof_count];
+        for &(n, d) in &model.supports {
+            held[dof(n, d)] = true;
+        }
+        Ok(Context {
+            model,
+            options,
+            elements,
+            setup,
+            system,
+            bar_only: bar_only_nodes(model),
+            held,
+            gravity: 0.0,
+            applied_weight: vec![0.0; dof_count],
+        })
+    }
+}
+
+impl Context<'_> {
+    /// The active-set rules for a stage's DOFs, with the nodes in place now.
+    pub fn active_set<'b>(&'b self, dofs: &'b DofMap, placed: &'b [bool]) -> ActiveSet<'b> {
+        ActiveSet {
+            mesh: &self.model.mesh,
+            multipliers: &dofs.multipliers,
+            equation: &dofs.equation,
+            bar_only: &self.bar_only,
+            placed,
+        }
+    }
+}
+
+/// The element matrices of the model's soil (with `setup`'s elasticity and integration rule) and
+/// bars.
+pub fn element_matrices(model: &Model, setup: &SoilSetup) -> ElementMatrices {
+    let bar_materials: Vec<BarMaterial> = model
+        .mesh
+        .bars
+        .iter()
+        .map(|b| {
+            let m = &model.reinforcements[b.material].1;
+            BarMaterial {
+                axial_stiffness: m.axial_stiffness,
+                tension_only: m.tension_only,
+                rupture_strength: m.rupture_strength,
+            }
+        })
+        .collect();
+    ElementMatrices::compute(&model.mesh, &setup.elastic, &bar_materials, setup.rule)
+}
+
+/// Stop before allocating anything large when the model alone would not fit.
+fn check_memory(model: &Model, options: &RunOptions) -> Result<(), SolveError> {
+    if let Some(limit) = options.solver.memory_limit_mb.or_else(crate::linsol::available_memory_mb) {
+        let needed = model_memory_estimate_mb(model);
+        if needed > limit {
+            return Err(SolveError::OutOfMemory(Box::new(MemoryShortfall {
+                backend: "geoslip",
+                what: "the model, its element matrices and the assembled system (estimate)",
+                needed_mb: needed,
+                available_mb: limit,
+                hint: "rank 0 of an MPI run holds these too: use a machine with more memory, or coarsen the mesh"
+                    .into(),
+            })));
+        }
+    }
+    Ok(())
+}
+
+/// Memory the model, its element matrices and its assembled system take, MB, before the solver's
+/// own: about 70 bytes per entry of the soil element matrices (the matrices, an iteration's
+/// triplets, the triplet-to-CSC refill map and the CSC matrix with the copy kept to detect
+/// unchanged values), calibrated against `geoslip bench`'s "model and assembly only" rows
+/// (docs/performance.md).
+pub fn model_memory_estimate_mb(model: &Model) -> f64 {
+    let entries: f64 = model.mesh.solids.iter().map(|s| (2 * s.nodes.len()).pow(2) as f64).sum();
+    (70.0 * entries + 200.0 * model.mesh.nodes.len() as f64) / (1024.0 * 1024.0)
+}
+
+/// Nodes that belong to no soil element (reinforcement nodes): their transverse DOF has no
+/// stiffness of its own.
+fn bar_only_nodes(model: &Model) -> Vec<bool> {
+    let mut in_soil = vec![false; model.mesh.nodes.len()];
+    for s in &model.mesh.solids {
+        for &n in &s.nodes {
+            in_soil[n] = true;
+        }
+    }
+    in_soil.iter().map(|s| !s).collect()
+}

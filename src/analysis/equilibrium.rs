@@ -1,0 +1,526 @@
+//! One increment iterated to equilibrium: each iteration assembles, solves, updates and asks
+//! whether it has converged.
+//!
+//! ```text
+//! [ K  sCᵀ ] { Δu    }   { f_ext − f_int(u) − Cᵀλ }
+//! [ sC sD  ] { Δλ/s } = { −s·g(u)  (or −λ on a unit-diagonal row) }
+//! ```
+//!
+//! K holds the elements and each spring's Ks·ℓ (constant stiffness: kept while the contact states
+//! stay, so the factorisation is reused and an iteration costs one solve) or its tangent (Newton);
+//! under the consistent Newton tangent the springs' shear is coupled to their normal multipliers.
+
+use super::context::{element_matrices, Context};
+use super::convergence::{displacement_ok, gaps_closed, out_of_balance, IncrementError, Measures};
+use super::singular::{self, Fallbacks, Recovered, SingularMatrix};
+use super::soil;
+use super::springs::{self, SpringResult};
+use super::state::State;
+use crate::assembly::{internal_force, round_off_floor, ElementMatrices, SoilView, SystemInputs};
+use crate::dofs::{dof, DofMap};
+use crate::element::soil_state::{SoilTrial, Tangent};
+use crate::interface::active_set::{describe, ActiveSet, Bands, Flips};
+use crate::interface::reassociate::clip_tributaries;
+use crate::interface::rows::{constraint_force, multiplier_is_active, InterfaceRows};
+use crate::interface::NormalState;
+use crate::linsol::csc::Triplets;
+use crate::linsol::Failure;
+use crate::model::{Model, ReassociationRule, Scheme};
+use std::time::Instant;
+
+/// A converged increment.
+pub struct IncrementReport {
+    pub iterations: usize,
+    pub force_residual: f64,
+    pub linear_residuals: Vec<f64>,
+    pub springs: Vec<SpringResult>,
+    pub state_changes: Vec<String>,
+    /// The soil's Gauss-point states at equilibrium.
+    pub soil: SoilTrial,
+}
+
+/// What one increment's iterations carry from one to the next.
+struct Iterations {
+    u_increment_start: Vec<f64>,
+    linear_residuals: Vec<f64>,
+    flips: Flips,
+    state_changes: Vec<String>,
+    /// Constant stiffness: the contact states and the springs' Ks·ℓ the matrix was built with.
+    kept_stiffness: Option<(Vec<bool>, Vec<f64>)>,
+    /// The fingerprint of the last matrix solved with.
+    matrix_key: Option<u64>,
+    fallbacks: Fallbacks,
+    /// The soil evaluated at the current iterate by the last convergence check.
+    carried_soil: Option<SoilTrial>,
+}
+
+/// The linearisation at one iterate: what the matrix and the right-hand side are built from.
+struct Linearisation {
+    rows: InterfaceRows,
+    springs: Vec<SpringResult>,
+    /// The soil's tangent in this iteration.
+    tangent: Tangent,
+    soil_trial: SoilTrial,
+    coupling: Option<Vec<f64>>,
+    key: u64,
+}
+
+/// An iteration's linear solution.
+struct Solution {
+    /// [Δu on the free DOFs | Δλ/s].
+    x: Vec<f64>,
+    /// The constraint rows' scale s.
+    scale: f64,
+    /// The right-hand side it solved for.
+    rhs: Vec<f64>,
+}
+
+/// Iterate one increment to equilibrium.
+pub fn equilibrium(cx: &mut Context, dofs: &DofMap, state: &mut State) -> Result<IncrementReport, IncrementError> {
+    let mut it = Iterations {
+        u_increment_start: state.u.clone(),
+        linear_residuals: Vec::new(),
+        flips: Flips::new(),
+        state_changes: Vec::new(),
+        kept_stiffness: None,
+        matrix_key: None,
+        fallbacks: Fallbacks {
+            elastic_springs: false,
+            soil_tangent: match cx.options.analysis.scheme {
+                Scheme::Newton => Tangent::Consistent,
+                Scheme::NewtonSymmetric => Tangent::Symmetric,
+                Scheme::ConstantStiffness => Tangent::Elastic,
+            },
+            dependent_retries: 0,
+        },
+        carried_soil: None,
+    };
+    let max_iterations = cx.options.analysis.max_iterations;
+    for iteration in 1..=max_iterations {
+        cx.system.stats.iterations += 1;
+        let linear = linearise(cx, dofs, state, &mut it, iteration);
+        let Some(Solution { x, scale, rhs }) = solve(cx, dofs, state, &mut it, &linear)? else { continue };
+        let step = if linear.soil_trial.yielding > 0 && linear.tangent != Tangent::Elastic {
+            line_search(cx, dofs, state, &linear.rows, &x, scale, &rhs[..dofs.free_count])
+        } else {
+            1.0
+        };
+        let correction2 = apply_correction(dofs, state, &x, step, scale);
+        match check(cx, dofs, state, &mut it, iteration, correction2)? {
+            Some(report) => return Ok(report),
+            None => continue,
+        }
+    }
+    Err(IncrementError::NotConverged {
+        iterations: 0,
+        residual: f64::NAN,
+        reference: f64::NAN,
+        unsettled: Vec::new(),
+        yielding: 0,
+    })
+}
+
+/// Clip the tributary lengths to the embedded part (large slip).
+fn clip(cx: &Context, state: &mut State) {
+    if cx.options.analysis.reassociation != ReassociationRule::None {
+        clip_tributaries(&cx.model.mesh, &mut state.interfaces, &state.u);
+    }
+}
+
+/// The rows, the springs' laws, the soil and the springs' stiffness at the current iterate.
+fn linearise(
+    cx: &mut Context,
+    dofs: &DofMap,
+    state: &mut State,
+    it: &mut Iterations,
+    iteration: usize,
+) -> Linearisation {
+    let t = Instant::now();
+    clip(cx, state);
+    let held =
+        cx.active_set(dofs, &state.placed).hold_free_reinforcement_nodes(&mut state.interfaces, &mut state.lambda);
+    it.state_changes.extend(held);
+    let rows = InterfaceRows::new(&cx.model.mesh, &state.interfaces, &dofs.multipliers);
+    let springs = springs::evaluate(state, &rows);
+    // The first iteration of an increment predicts with the elastic soil stiffness: prescribed
+    // displacements strain only the elements next to them at first, and their tangent would say
+    // nothing about the rest.
+    let tangent = if iteration == 1 { Tangent::Elastic } else { it.fallbacks.soil_tangent };
+    // The soil at this iterate was evaluated (with this tangent) to check the last iteration's
+    // residual: nothing since has moved the displacements.
+    let soil_trial = match it.carried_soil.take() {
+        Some(trial) => trial,
+        None => soil::evaluate(&cx.setup, &state.soil, &state.u, &state.u_committed, tangent),
+    };
+    let scheme = cx.options.analysis.scheme;
+    // Constant stiffness (the paper's Fig. 3): Ks·ℓ as the increment found it, kept while the
+    // contact states stay, so the factorisation is reused and each iteration costs one solve.
+    // Newton: the law's tangent at the current iterate.
+    let contact: Vec<bool> =
+        rows.springs.iter().map(|s| state.interfaces[s.interface].faces[s.face].points[s.point].in_contact()).collect();
+    let keep = scheme == Scheme::ConstantStiffness && it.kept_stiffness.as_ref().is_some_and(|(c, _)| *c == contact);
+    if !keep {
+        let stiffness = rows
+            .springs
+            .iter()
+            .zip(&springs)
+            .zip(&contact)
+            .map(|((s, r), &in_contact)| {
+                if !in_contact {
+                    return 0.0;
+                }
+                let ks = state.interfaces[s.interface].faces[s.face].law.shear_stiffness().unwrap_or(0.0);
+                let k = match scheme {
+                    Scheme::ConstantStiffness => ks,
+                    Scheme::Newton | Scheme::NewtonSymmetric if it.fallbacks.elastic_springs => ks,
+                    Scheme::Newton | Scheme::NewtonSymmetric => r.response.tangent.max(0.0),
+                };
+                k * s.tributary
+            })
+            .collect();
+        it.kept_stiffness = Some((contact, stiffness));
+    }
+    // the consistent tangent couples each sliding point's shear to its normal multiplier
+    let coupling: Option<Vec<f64>> = (scheme == Scheme::Newton && state.frozen_sigma_n.is_none()).then(|| {
+        rows.springs
+            .iter()
+            .zip(&springs)
+            .map(|(s, r)| {
+                let p = &state.interfaces[s.interface].faces[s.face].points[s.point];
+                if matches!(p.normal_state, NormalState::Active) {
+                    r.response.d_tau_d_sigma
+                } else {
+                    0.0
+                }
+            })
+            .collect()
+    });
+    let stiffness = &it.kept_stiffness.as_ref().expect("set above").1;
+    let key = inputs(&cx.elements, &soil_trial, &rows, stiffness, coupling.as_deref(), dofs, state).fingerprint();
+    cx.system.stats.interface_seconds += t.elapsed().as_secs_f64();
+    Linearisation { rows, springs, tangent, soil_trial, coupling, key }
+}
+
+/// The inputs of an iteration's matrix.
+fn inputs<'a>(
+    elements: &'a ElementMatrices,
+    soil_trial: &'a SoilTrial,
+    rows: &'a InterfaceRows,
+    spring_stiffness: &'a [f64],
+    spring_coupling: Option<&'a [f64]>,
+    dofs: &'a DofMap,
+    state: &'a State,
+) -> SystemInputs<'a> {
+    SystemInputs {
+        elements,
+        soil: SoilView { field: &state.soil, trial: soil_trial },
+        rows,
+        spring_stiffness,
+        spring_coupling,
+        bars: &state.bars,
+        interfaces: &state.interfaces,
+        dofs,
+        scale: elements.typical_stiffness(),
+    }
+}
+
+/// Assemble (unless the last matrix is still the one) and solve; `None` when a singular matrix was recovered from and the
+/// iteration is to be done again.
+fn solve(
+    cx: &mut Context,
+    dofs: &DofMap,
+    state: &mut State,
+    it: &mut Iterations,
+    linear: &Linearisation,
+) -> Result<Option<Solution>, IncrementError> {
+    // The matrix of the last solve, when nothing in it changed (constant stiffness, no state
+    // change): no assembly, no factorisation, one solve.
+    let t = Instant::now();
+    let reuse = it.matrix_key == Some(linear.key);
+    let stiffness = &it.kept_stiffness.as_ref().expect("set by linearise").1;
+    let system =
+        inputs(&cx.elements, &linear.soil_trial, &linear.rows, stiffness, linear.coupling.as_deref(), dofs, state);
+    let IterationSystem { triplets, rhs, scale, active } = iteration_system(system, &linear.springs, state, !reuse);
+    cx.system.stats.assembly_seconds += t.elapsed().as_secs_f64();
+    let reused = if reuse { cx.system.solve_again(&rhs).ok() } else { None };
+    let triplets = match reused {
+        Some(_) => triplets,
+        None if reuse => {
+            // the reused factorisation did not give a clean solution: assemble and factorise
+            let t = Instant::now();
+            let again = system.assemble();
+            cx.system.stats.assembly_seconds += t.elapsed().as_secs_f64();
+            again
+        }
+        None => triplets,
+    };
+    it.matrix_key = Some(linear.key);
+    match reused.map_or_else(|| cx.system.solve(dofs.size(), &triplets, &rhs, active), Ok) {
+        Ok((x, linear_residual)) => {
+            it.linear_residuals.push(linear_residual);
+            Ok(Some(Solution { x, scale, rhs }))
+        }
+        Err(Failure::Singular { equations }) => {
+            let singular = SingularMatrix {
+                triplets: &triplets,
+                equations,
+                sliding: linear.springs.iter().any(|r| r.sliding),
+                yielded_soil: linear.soil_trial.tangents.iter().any(|t| t.is_some()),
+            };
+            match singular::recover(cx, dofs, state, &mut it.fallbacks, singular)? {
+                Recovered::NewMatrix => it.matrix_key = None,
+                Recovered::RowsSetAside(changes) => it.state_changes.extend(changes),
+            }
+            Ok(None)
+        }
+        Err(Failure::Other(e)) => Err(IncrementError::Solve(e)),
+    }
+}
+
+/// Add `step` times the correction to the displacements and the multipliers; returns the squared
+/// norm of the displacement correction.
+fn apply_correction(dofs: &DofMap, state: &mut State, x: &[f64], step: f64, scale: f64) -> f64 {
+    let mut correction2 = 0.0f64;
+    for (d, eq) in dofs.equation.iter().enumerate() {
+        if let Some(e) = eq {
+            state.u[d] += step * x[*e];
+            correction2 += (step * x[*e]).powi(2);
+        }
+    }
+    for k in 0..dofs.multipliers.len() {
+        state.lambda[k] += step * scale * x[dofs.multiplier_equation(k)];
+    }
+    correction2
+}
+
+/// After a correction: the active set and the bars' rupture, then the convergence test. Returns
+/// the report when the increment has converged.
+fn check(
+    cx: &mut Context,
+    dofs: &DofMap,
+    state: &mut State,
+    it: &mut Iterations,
+    iteration: usize,
+    correction2: f64,
+) -> Result<Option<IncrementReport>, IncrementError> {
+    let t = Instant::now();
+    clip(cx, state);
+    let rows = InterfaceRows::new(&cx.model.mesh, &state.interfaces, &dofs.multipliers);
+    let springs = springs::evaluate(state, &rows);
+    let characteristic = cx.model.mesh.characteristic_length();
+    let force_floor = state
+        .f_ext
+        .iter()
+        .fold(0.0f64, |m, f| m.max(f.abs()))
+        .max(1e-6 * cx.elements.typical_stiffness() * characteristic);
+    let gaps = rows.gaps(&state.u);
+    let bands = Bands::new(&state.lambda, force_floor, characteristic);
+    let mut changes = cx.active_set(dofs, &state.placed).update(
+        &mut state.interfaces,
+        &mut state.lambda,
+        &gaps,
+        bands,
+        &mut it.flips,
+    );
+    let elements = &cx.elements;
+    changes.extend(state.bars.rupture(&elements.bars, |i| &elements.blocks[i].0, &state.u));
+    cx.system.stats.interface_seconds += t.elapsed().as_secs_f64();
+    it.state_changes.extend(changes.iter().cloned());
+    let settings = &cx.options.analysis;
+    // (the correction against the displacements so far, for an increment that moves almost
+    // nothing, as a strength-reduction trial at F = 1, while slack sheets under no normal stress
+    // drift along themselves without changing any force)
+    let displacement_ok = displacement_ok(settings, iteration, correction2, &state.u, &it.u_increment_start);
+    let t = Instant::now();
+    let taus: Vec<f64> = springs.iter().map(|r| r.tau).collect();
+    // with the tangent the next iteration assembles (the forces do not depend on it)
+    let soil_trial = soil::evaluate(&cx.setup, &state.soil, &state.u, &state.u_committed, it.fallbacks.soil_tangent);
+    let (residual, reference) = out_of_balance(&cx.elements, &soil_trial, &rows, &taus, state, dofs);
+    cx.system.stats.residual_seconds += t.elapsed().as_secs_f64();
+    if !residual.is_finite() {
+        return Err(IncrementError::NotConverged {
+            iterations: iteration,
+            residual,
+            reference,
+            unsettled: Vec::new(),
+            yielding: soil_trial.yielding,
+        });
+    }
+    let measures = Measures {
+        residual,
+        reference,
+        floor: round_off_floor(&cx.elements, SoilView { field: &state.soil, trial: &soil_trial }, &state.u),
+        settled: changes.is_empty(),
+        gaps_closed: gaps_closed(&gaps, state, dofs, characteristic),
+        displacement_ok,
+    };
+    if measures.converged(settings) {
+        return Ok(Some(IncrementReport {
+            iterations: iteration,
+            force_residual: residual / reference,
+            linear_residuals: std::mem::take(&mut it.linear_residuals),
+            springs,
+            state_changes: std::mem::take(&mut it.state_changes),
+            soil: soil_trial,
+        }));
+    }
+    if iteration == settings.max_iterations {
+        let mut unsettled: Vec<(usize, usize)> =
+            it.flips.iter().map(|(&k, &n)| (k, n)).filter(|&(_, n)| n > 1).collect();
+        unsettled.sort_by_key(|&(_, n)| std::cmp::Reverse(n));
+        let unsettled = unsettled
+            .into_iter()
+            .map(|(k, n)| format!("{} ({n} changes)", describe(&cx.model.mesh, &state.interfaces, dofs.multipliers[k])))
+            .collect();
+        return Err(IncrementError::NotConverged {
+            iterations: iteration,
+            residual,
+            reference,
+            unsettled,
+            yielding: soil_trial.yielding,
+        });
+    }
+    it.carried_soil = Some(soil_trial);
+    Ok(None)
+}
+
+/// A backtracking line search on the Newton correction of yielding soil: the step is halved (at
+/// most five times) while the out-of-balance force on the free DOFs would grow. Perfectly plastic
+/// Gauss points make the consistent tangent nearly singular where a mechanism is forming, and a
+/// full step can then overshoot far (Crisfield, Non-linear Finite Element Analysis of Solids and
+/// Structures, vol. 1 (1991) §9.3).
+fn line_search(
+    cx: &Context,
+    dofs: &DofMap,
+    state: &State,
+    rows: &InterfaceRows,
+    x: &[f64],
+    scale: f64,
+    before: &[f64],
+) -> f64 {
+    let r0: f64 = before.iter().map(|v| v * v).sum::<f64>().sqrt();
+    let mut trial = state.clone();
+    let mut step = 1.0;
+    for _ in 0..6 {
+        for (d, eq) in dofs.equation.iter().enumerate() {
+            if let Some(e) = eq {
+                trial.u[d] = state.u[d] + step * x[*e];
+            }
+        }
+        for k in 0..dofs.multipliers.len() {
+            trial.lambda[k] = state.lambda[k] + step * scale * x[dofs.multiplier_equation(k)];
+        }
+        let springs = springs::evaluate(&trial, rows);
+        let taus: Vec<f64> = springs.iter().map(|r| r.tau).collect();
+        let soil_trial = soil::evaluate(&cx.setup, &trial.soil, &trial.u, &trial.u_committed, Tangent::Elastic);
+        let (r, _) = out_of_balance(&cx.elements, &soil_trial, rows, &taus, &trial, dofs);
+        if r <= r0 || step < 0.05 {
+            break;
+        }
+        step *= 0.5;
+    }
+    step
+}
+
+/// The linear system of one equilibrium iteration.
+pub struct IterationSystem {
+    pub triplets: Triplets,
+    pub rhs: Vec<f64>,
+    /// Scale of the constraint rows (the multiplier unknowns are Δλ/scale).
+    pub scale: f64,
+    /// Rows that hold a constraint (zero diagonal).
+    pub active: usize,
+}
+
+/// The system of one iteration from the current state: out-of-balance forces on the free DOFs, −g
+/// on active rows (no transverse motion on held rows), −λ on the rest; the matrix when asked for.
+fn iteration_system(
+    inputs: SystemInputs,
+    springs: &[SpringResult],
+    state: &State,
+    with_matrix: bool,
+) -> IterationSystem {
+    let SystemInputs { elements, soil, rows, dofs, scale, .. } = inputs;
+    let n_dof = state.u.len();
+    let gaps = rows.gaps(&state.u);
+    let taus: Vec<f64> = springs.iter().map(|r| r.tau).collect();
+    let f_int = internal_force(elements, soil, rows, &taus, &state.bars, &state.u);
+    let f_c = constraint_force(rows, &state.lambda, n_dof);
+    let mut rhs = vec![0.0; dofs.size()];
+    for (d, eq) in dofs.equation.iter().enumerate() {
+        if let Some(e) = eq {
+            rhs[*e] = state.f_ext[d] - f_int[d] - f_c[d];
+        }
+    }
+    let mut active = 0;
+    for k in 0..dofs.multipliers.len() {
+        let m = dofs.multipliers[k];
+        let held = !m.tangential
+            && matches!(
+                state.interfaces[m.interface].faces[m.face].points[m.point].normal_state,
+                NormalState::Held { .. }
+            );
+        rhs[dofs.multiplier_equation(k)] = if held {
+            active += 1;
+            0.0
+        } else if multiplier_is_active(&state.interfaces, m) {
+            active += 1;
+            -scale * gaps[k]
+        } else {
+            -state.lambda[k]
+        };
+    }
+    let triplets = if with_matrix { inputs.assemble() } else { Triplets::default() };
+    IterationSystem { triplets, rhs, scale, active }
+}
+
+/// The first system a run of `model` solves (stage 1, step 1, iteration 1): for benchmarks and
+/// solver studies.
+pub fn first_system(model: &Model) -> (usize, IterationSystem) {
+    let setup = soil::SoilSetup::new(model);
+    let elements = element_matrices(model, &setup);
+    let dof_count = 2 * model.mesh.nodes.len();
+    let mut held = vec![false; dof_count];
+    let stage = &model.stages[0];
+    let prescribed = stage.prescribed.iter().map(|&(n, d, _)| (n, d));
+    for (n, d) in model.supports.iter().copied().chain(prescribed) {
+        held[dof(n, d)] = true;
+    }
+    let mut interfaces = model.interfaces.clone();
+    let dofs = DofMap::new(model.mesh.nodes.len(), &held, &interfaces);
+    let rules = ActiveSet {
+        mesh: &model.mesh,
+        multipliers: &dofs.multipliers,
+        equation: &dofs.equation,
+        bar_only: &[],
+        placed: &[],
+    };
+    rules.mark_redundant(&mut interfaces);
+    let factor = stage.load_factors[0];
+    let mut u = vec![0.0; dof_count];
+    for &(n, d, value) in &stage.prescribed {
+        u[dof(n, d)] = factor * value;
+    }
+    let f_ext = super::loads::external_force(model, &stage.loads).into_iter().map(|f| factor * f).collect();
+    let state = State {
+        u,
+        lambda: vec![0.0; dofs.multipliers.len()],
+        interfaces,
+        f_ext,
+        u_committed: vec![0.0; dof_count],
+        frozen_sigma_n: None,
+        bars: crate::element::bar::BarStates::new(model.mesh.bars.len()),
+        soil: soil::initial_field(model),
+        placed: Vec::new(),
+    };
+    let rows = InterfaceRows::new(&model.mesh, &state.interfaces, &dofs.multipliers);
+    let springs = springs::evaluate(&state, &rows);
+    let soil_trial = SoilTrial::default();
+    let stiffness: Vec<f64> = rows
+        .springs
+        .iter()
+        .map(|s| state.interfaces[s.interface].faces[s.face].law.shear_stiffness().unwrap_or(0.0) * s.tributary)
+        .collect();
+    let system = inputs(&elements, &soil_trial, &rows, &stiffness, None, &dofs, &state);
+    (dofs.size(), iteration_system(system, &springs, &state, true))
+}

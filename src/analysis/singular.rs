@@ -1,0 +1,173 @@
+//! A singular matrix within an iteration: the three ways an increment recovers from one, and, when
+//! none applies, the error that names what is unconstrained.
+//!
+//! 1. Sliding points have no shear stiffness; where they are all that holds a node along the
+//!    interface (a tension-only sheet gone slack, under no normal stress, as a liner laid before its
+//!    cover) the tangent is singular though the forces balance: the rest of the increment iterates
+//!    with Ks on the sliding points.
+//! 2. Yielded soil can leave the consistent tangent singular (a local mechanism of perfectly plastic
+//!    Gauss points, as at a footing edge) where the structure itself is not: the rest of the
+//!    increment iterates on the elastic soil stiffness.
+//! 3. Normal rows that depend on other rows (after a re-association, two reinforcement nodes tied to
+//!    the same pair of soil nodes) are set aside, reported, and the iteration retried.
+//!
+//! Anything else is a mechanism of the model.
+
+use super::context::Context;
+use super::convergence::{cap, IncrementError};
+use super::state::State;
+use crate::dofs::DofMap;
+use crate::element::soil_state::Tangent;
+use crate::error::SolveError;
+use crate::interface::active_set::describe;
+use crate::interface::{Interface, NormalState};
+use crate::linsol::csc::{PatternCache, Triplets};
+use crate::linsol::{dense_ref, Failure, LinearSolver};
+use crate::model::Model;
+
+/// How many times one increment may set dependent rows aside.
+const DEPENDENT_RETRIES: usize = 8;
+
+/// The fallbacks an increment has taken so far.
+pub struct Fallbacks {
+    /// Sliding points' springs on Ks instead of their zero plastic tangent.
+    pub elastic_springs: bool,
+    /// The tangent the soil gives the matrix after the first iteration.
+    pub soil_tangent: Tangent,
+    /// How many times dependent rows were set aside.
+    pub dependent_retries: usize,
+}
+
+/// What the iteration knew when its matrix was singular.
+pub struct SingularMatrix<'a> {
+    pub triplets: &'a Triplets,
+    /// The null pivots the backend named (may be empty).
+    pub equations: Vec<usize>,
+    /// Some interface point slides at its strength.
+    pub sliding: bool,
+    /// Some soil element gave the matrix a tangent other than its elastic matrix.
+    pub yielded_soil: bool,
+}
+
+/// How the iteration goes on.
+pub enum Recovered {
+    /// With a new matrix (fallback 1 or 2).
+    NewMatrix,
+    /// With dependent rows set aside; the state changes to report.
+    RowsSetAside(Vec<String>),
+}
+
+/// Recover from a singular matrix, or name what is unconstrained.
+pub fn recover(
+    cx: &mut Context,
+    dofs: &DofMap,
+    state: &mut State,
+    fallbacks: &mut Fallbacks,
+    singular: SingularMatrix,
+) -> Result<Recovered, IncrementError> {
+    if !fallbacks.elastic_springs && singular.sliding {
+        fallbacks.elastic_springs = true;
+        warn_once(
+            cx,
+            "the tangent with sliding interface points was singular in some increments (a slack \
+             reinforcement held only by sliding points); they continued with Ks on those points",
+        );
+        return Ok(Recovered::NewMatrix);
+    }
+    if singular.yielded_soil {
+        fallbacks.soil_tangent = Tangent::Elastic;
+        warn_once(
+            cx,
+            "the consistent tangent of the yielded soil was singular in some increments; they \
+             continued on the elastic soil stiffness",
+        );
+        return Ok(Recovered::NewMatrix);
+    }
+    let null = null_equations(singular.triplets, dofs.size(), singular.equations.clone()).unwrap_or_default();
+    let rows: Vec<usize> = null
+        .iter()
+        .filter_map(|&e| e.checked_sub(dofs.free_count))
+        .filter(|&k| !dofs.multipliers[k].tangential)
+        .collect();
+    if !null.is_empty() && rows.len() == null.len() && fallbacks.dependent_retries < DEPENDENT_RETRIES {
+        fallbacks.dependent_retries += 1;
+        let mut changes = Vec::new();
+        for k in rows {
+            let m = dofs.multipliers[k];
+            let name = describe(&cx.model.mesh, &state.interfaces, m);
+            state.interfaces[m.interface].faces[m.face].points[m.point].normal_state = NormalState::Redundant {
+                carried_by: "the other constraint rows on the same soil nodes (it depends on them)".into(),
+                multiplier: None,
+            };
+            state.lambda[k] = 0.0;
+            changes.push(format!("{name}: set aside, it depends on other constraint rows"));
+        }
+        return Ok(Recovered::RowsSetAside(changes));
+    }
+    Err(IncrementError::Solve(SolveError::Singular {
+        backend: cx.system.backend().name(),
+        unknowns: diagnose(cx.model, &state.interfaces, dofs, singular.triplets, singular.equations),
+    }))
+}
+
+fn warn_once(cx: &mut Context, warning: &str) {
+    let w = warning.to_string();
+    if !cx.system.stats.warnings.contains(&w) {
+        cx.system.stats.warnings.push(w);
+    }
+}
+
+/// Name what is unconstrained in a singular system.
+fn diagnose(
+    model: &Model,
+    interfaces: &[Interface],
+    dofs: &DofMap,
+    triplets: &Triplets,
+    equations: Vec<usize>,
+) -> Vec<String> {
+    let n = dofs.size();
+    let column_norm = column_norms(triplets, n);
+    let describe = |e: usize| {
+        let name = dofs.describe(e, &model.mesh, interfaces);
+        if column_norm.get(e).is_some_and(|&c| c == 0.0) {
+            format!("{name} has no stiffness and no constraint")
+        } else {
+            format!("{name} is not held (a null pivot: a mechanism runs through it)")
+        }
+    };
+    match null_equations(triplets, n, equations) {
+        Some(list) => cap(list.into_iter().map(describe).collect()),
+        None => vec!["a mechanism that the structural checks did not isolate: check that every bar node is held by an interface and every body is supported".into()],
+    }
+}
+
+fn column_norms(triplets: &Triplets, n: usize) -> Vec<f64> {
+    let mut column_norm = vec![0.0f64; n];
+    for (&j, &v) in triplets.cols.iter().zip(&triplets.values) {
+        column_norm[j] += v.abs();
+    }
+    column_norm
+}
+
+/// The undetermined unknowns of a singular system: those the backend named, else the empty
+/// columns, else those the reference solver's complete pivoting isolates (small systems).
+fn null_equations(triplets: &Triplets, n: usize, equations: Vec<usize>) -> Option<Vec<usize>> {
+    if !equations.is_empty() {
+        return Some(equations);
+    }
+    let column_norm = column_norms(triplets, n);
+    let empty: Vec<usize> = (0..n).filter(|&j| column_norm[j] == 0.0).collect();
+    if !empty.is_empty() {
+        return Some(empty);
+    }
+    if n <= dense_ref::SIZE_LIMIT {
+        let matrix = PatternCache::default().assemble(n, triplets).0;
+        let mut dense = dense_ref::DenseReference::default();
+        if dense.analyse(&matrix).is_ok() {
+            if let Err(Failure::Singular { equations }) = dense.factorize(&matrix) {
+                return Some(equations);
+            }
+        }
+    }
+    None
+}

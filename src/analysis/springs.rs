@@ -1,0 +1,86 @@
+//! The interface springs' shear laws evaluated at an iterate: each point's slip since the last
+//! converged increment, its normal stress (current, or frozen at the start of the stage, less the
+//! pore pressure), and the law's response.
+
+use super::state::State;
+use crate::interface::rows::{InterfaceRows, Spring};
+use crate::interface::{NormalState, ShearResponse};
+
+/// One spring's law evaluated at the current iterate.
+#[derive(Debug, Clone)]
+pub struct SpringResult {
+    pub interface: usize,
+    pub face: usize,
+    pub point: usize,
+    pub response: ShearResponse,
+    pub tau: f64,
+    pub sigma_n: f64,
+    pub sliding: bool,
+}
+
+/// σn = λ/ℓ of a spring's point (compression positive); a redundant row's force is carried by
+/// another row, whose σn it shares.
+pub fn normal_stress(state: &State, rows: &InterfaceRows, spring: &Spring) -> f64 {
+    let p = &state.interfaces[spring.interface].faces[spring.face].points[spring.point];
+    match &p.normal_state {
+        NormalState::Active => state.lambda[spring.normal_multiplier] / spring.tributary.max(f64::MIN_POSITIVE),
+        NormalState::Redundant { multiplier: Some(carrier), .. } => {
+            let owner = rows.springs.iter().find(|s| s.normal_multiplier == *carrier);
+            let l = owner.map(|s| s.tributary).unwrap_or(spring.tributary).max(f64::MIN_POSITIVE);
+            state.lambda[*carrier].abs() / l
+        }
+        _ => 0.0,
+    }
+}
+
+/// Evaluate every spring's law at the current displacements.
+pub fn evaluate(state: &State, rows: &InterfaceRows) -> Vec<SpringResult> {
+    rows.springs
+        .iter()
+        .enumerate()
+        .map(|(k, s)| {
+            let interface = &state.interfaces[s.interface];
+            let p = &interface.faces[s.face].points[s.point];
+            let slip_increment: f64 = s.row.iter().map(|&(d, c)| c * (state.u[d] - state.u_committed[d])).sum();
+            let slip = p.shear.slip + slip_increment;
+            let sigma_n = match &state.frozen_sigma_n {
+                Some(frozen) => frozen.get(k).copied().unwrap_or(0.0),
+                None => normal_stress(state, rows, s),
+            };
+            // the strength acts on the effective normal stress σn′ = σn − p
+            let sigma_n = match &state.soil.water {
+                Some(w) => {
+                    let at = [s.position[0] + state.u[2 * s.slave], s.position[1] + state.u[2 * s.slave + 1]];
+                    sigma_n - w.pressure(at)
+                }
+                None => sigma_n,
+            };
+            let response = if p.in_contact() {
+                interface.faces[s.face].law.response(&p.shear, slip, sigma_n)
+            } else {
+                // Out of contact: no shear; the slip goes on accumulating and restarts elastic.
+                let mut st = p.shear.clone();
+                st.slip = slip;
+                st.plastic_slip = slip;
+                st.tau = 0.0;
+                ShearResponse { tau: 0.0, tangent: 0.0, d_tau_d_sigma: 0.0, state: st, sliding: false }
+            };
+            SpringResult {
+                interface: s.interface,
+                face: s.face,
+                point: s.point,
+                tau: response.tau,
+                sliding: response.sliding,
+                sigma_n,
+                response,
+            }
+        })
+        .collect()
+}
+
+/// Store each spring's converged law state in its point.
+pub fn commit(state: &mut State, springs: &[SpringResult]) {
+    for r in springs {
+        state.interfaces[r.interface].faces[r.face].points[r.point].shear = r.response.state.clone();
+    }
+}

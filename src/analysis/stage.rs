@@ -1,0 +1,294 @@
+//! One stage: set up (soil placed or removed, water, K0 stresses, contacts placed, DOFs numbered,
+//! loads), then its increments, each cut back when it fails, and each converged one committed and
+//! handed to the sink.
+
+use super::context::Context;
+use super::equilibrium::{equilibrium, IncrementReport};
+use super::loads::external_force;
+use super::results::{reinforcement_balance, StepResults};
+use super::sink::{StepRecord, StepSink};
+use super::soil;
+use super::springs::{self, normal_stress};
+use super::state::State;
+use crate::assembly::{internal_force, SoilView};
+use crate::dofs::{dof, DofMap};
+use crate::element::bar::BarStates;
+use crate::element::soil_state::{SoilField, Tangent};
+use crate::error::Error;
+use crate::interface::active_set::place_contacts;
+use crate::interface::reassociate;
+use crate::interface::rows::{constraint_force, InterfaceRows};
+use crate::model::{Load, Model, ReassociationRule, StagePlan};
+use std::time::Instant;
+
+/// A stage once it is set up.
+pub struct Stage<'a> {
+    pub plan: &'a StagePlan,
+    pub index: usize,
+    /// The DOFs of this stage: held where supported, prescribed or not yet placed.
+    pub dofs: DofMap,
+    /// Rows carried by others (see `ActiveSet::mark_redundant`), as last found.
+    pub redundant: Vec<String>,
+    /// The stage's full load (factor 1): its loads and the change in the soil's weight.
+    force: Vec<f64>,
+    /// The applied force when the stage started.
+    f_ext_start: Vec<f64>,
+    /// What the soil's change put out of balance, released over the stage's load factors.
+    unbalance: Vec<f64>,
+}
+
+/// Where a converged increment sits in its stage.
+pub struct Increment {
+    pub step: usize,
+    pub load_factor: f64,
+    /// The strength reduction factor of a strength-reduction stage.
+    pub strength_factor: Option<f64>,
+    pub cutbacks: usize,
+    pub started: Instant,
+}
+
+/// Set a stage up: the soil it places and removes, its water table and K0 stresses, the contacts
+/// it puts in place, its DOFs and its loads.
+pub fn set_up<'a>(cx: &mut Context, state: &mut State, plan: &'a StagePlan, index: usize) -> Stage<'a> {
+    let model = cx.model;
+    for &(n, d, _) in &plan.prescribed {
+        cx.held[dof(n, d)] = true;
+    }
+    // The soil of this stage: lifts placed, soil removed, a new water table, K0 stresses.
+    let soil_changed = !plan.activate.is_empty() || !plan.deactivate.is_empty() || plan.k0 || plan.water.is_some();
+    soil::deactivate(&mut state.soil, &plan.deactivate);
+    let bar_nodes: Vec<usize> = plan.activate_bars.iter().flat_map(|&b| model.mesh.bars[b].nodes).collect();
+    soil::activate(model, &cx.setup, &mut state.soil, &plan.activate, &bar_nodes, &mut state.u);
+    // placed reinforcement: its force counts from the stretch it lands with
+    for &b in &plan.activate_bars {
+        state.bars.absent[b] = false;
+        let law = &cx.elements.bars[b];
+        state.bars.placed_stretch[b] = law.stretch(&state.u, cx.elements.bar_dofs(b));
+    }
+    if soil_changed {
+        let water = plan.water.clone().unwrap_or_else(|| state.soil.water.clone());
+        soil::set_water(model, &cx.setup, &mut state.soil, water);
+    }
+    if plan.k0 {
+        soil::set_k0(model, &cx.setup, &mut state.soil, &state.u);
+    }
+    state.u_committed = state.u.clone();
+    let placed_before = std::mem::replace(&mut state.placed, placed_nodes(model, &state.soil, &state.bars));
+    place_contacts(&mut state.interfaces, &mut state.lambda, &state.placed, &placed_before);
+    let stage_held = with_absent_nodes(model, &state.soil, &state.bars, &cx.held);
+    let dofs = DofMap::new(model.mesh.nodes.len(), &stage_held, &state.interfaces);
+    let redundant = cx.active_set(&dofs, &state.placed).mark_redundant(&mut state.interfaces);
+    // This stage's additions: its loads, and the change in the soil's weight (gravity switched on
+    // or up, soil placed or removed, soil under a new water table).
+    cx.gravity += plan.loads.iter().map(|l| if let Load::Gravity { factor } = l { *factor } else { 0.0 }).sum::<f64>();
+    let mut weight = soil::weight(model, &cx.setup, &state.soil, cx.gravity);
+    for (w, p) in weight.iter_mut().zip(soil::water_on_boundary(model, &state.soil, &state.interfaces)) {
+        *w += p;
+    }
+    let mut force = external_force(model, &plan.loads);
+    for ((f, w), a) in force.iter_mut().zip(&weight).zip(&cx.applied_weight) {
+        *f += w - a;
+    }
+    cx.applied_weight = weight;
+    let f_ext_start = state.f_ext.clone();
+    // What the soil's change put out of balance (removed soil, new pore pressures, K0 stresses off
+    // equilibrium) is released over the stage's load factors: f_ext starts at the internal force of
+    // the new configuration and ends at the applied loads.
+    let unbalance = if soil_changed { unbalance(cx, &dofs, state) } else { vec![0.0; state.u.len()] };
+    Stage { plan, index, dofs, redundant, force, f_ext_start, unbalance }
+}
+
+/// The stage's increments: each target load factor in turn; a failed increment is cut back (its
+/// midpoint put in front, the state restored) up to `max_cutbacks` times.
+pub fn increments(
+    cx: &mut Context,
+    state: &mut State,
+    stage: &mut Stage,
+    sink: &mut dyn StepSink,
+) -> Result<(), Error> {
+    let (model, plan) = (cx.model, stage.plan);
+    let u_start = state.u.clone();
+    state.frozen_sigma_n = cx.options.analysis.freeze_normal_stress.then(|| {
+        let rows = InterfaceRows::new(&model.mesh, &state.interfaces, &stage.dofs.multipliers);
+        rows.springs.iter().map(|s| normal_stress(state, &rows, s)).collect()
+    });
+    let mut targets: Vec<f64> = plan.load_factors.clone();
+    let mut reached = 0.0;
+    let mut step = 0;
+    let mut cutbacks = 0;
+    while let Some(&target) = targets.first() {
+        let started = Instant::now();
+        let snapshot = state.clone();
+        for (k, f) in state.f_ext.iter_mut().enumerate() {
+            *f = stage.f_ext_start[k] + target * stage.force[k] - (1.0 - target) * stage.unbalance[k];
+        }
+        for &(n, d, value) in &plan.prescribed {
+            state.u[dof(n, d)] = u_start[dof(n, d)] + target * value;
+        }
+        let report = match equilibrium(cx, &stage.dofs, state) {
+            Ok(report) => report,
+            Err(e) => {
+                if e.retryable() && cutbacks < cx.options.analysis.max_cutbacks {
+                    *state = snapshot;
+                    targets.insert(0, 0.5 * (reached + target));
+                    cutbacks += 1;
+                    continue;
+                }
+                return Err(e.at(&model.source, &plan.name, step + 1, cutbacks));
+            }
+        };
+        step += 1;
+        let at = Increment { step, load_factor: target, strength_factor: None, cutbacks, started };
+        complete_increment(cx, stage, state, report, &at, sink)?;
+        targets.remove(0);
+        reached = target;
+        if plan.load_factors.iter().any(|&f| (f - target).abs() < 1e-15) {
+            cutbacks = 0;
+        }
+    }
+    Ok(())
+}
+
+/// Commit a converged increment (shear states and soil stresses), hand its results to the sink, and
+/// re-associate the interface points for the next one.
+pub fn complete_increment(
+    cx: &mut Context,
+    stage: &mut Stage,
+    state: &mut State,
+    report: IncrementReport,
+    at: &Increment,
+    sink: &mut dyn StepSink,
+) -> Result<(), Error> {
+    let (model, options) = (cx.model, cx.options);
+    springs::commit(state, &report.springs);
+    soil::commit(&mut state.soil, &report.soil);
+    let output_started = Instant::now();
+    let rows = InterfaceRows::new(&model.mesh, &state.interfaces, &stage.dofs.multipliers);
+    let taus: Vec<f64> = report.springs.iter().map(|r| r.tau).collect();
+    let sliding: Vec<bool> = report.springs.iter().map(|r| r.sliding).collect();
+    let results = StepResults::compute(model, &cx.elements, &rows, &taus, &sliding, state, &report.soil, &cx.held);
+    let balance = reinforcement_balance(model, &results, state);
+    cx.system.stats.output_seconds += output_started.elapsed().as_secs_f64();
+    let search_started = Instant::now();
+    let rule = options.analysis.reassociation;
+    let mut reassociations = match rule {
+        ReassociationRule::None => Vec::new(),
+        rule => reassociate::reassociate(
+            &model.mesh,
+            &mut state.interfaces,
+            &state.u,
+            rule == ReassociationRule::NearestNode,
+        ),
+    };
+    if rule != ReassociationRule::None {
+        reassociations.extend(reassociate::uncover_slits(&model.mesh, &mut state.interfaces, &state.u));
+    }
+    state.reserve_segments(options);
+    let redundant_now = stage.redundant.clone();
+    if rule != ReassociationRule::None {
+        // new associations and clipped lengths can make two rows repeat each other (both faces
+        // tied to segments ending at one soil node, at a slit tip): find them again
+        stage.redundant = cx.active_set(&stage.dofs, &state.placed).mark_redundant(&mut state.interfaces);
+    }
+    cx.system.stats.interface_seconds += search_started.elapsed().as_secs_f64();
+    state.u_committed = state.u.clone();
+    let record = StepRecord {
+        stage: stage.plan.name.clone(),
+        stage_index: stage.index,
+        step: at.step,
+        load_factor: at.load_factor,
+        strength_factor: at.strength_factor,
+        iterations: report.iterations,
+        cutbacks: at.cutbacks,
+        force_residual: report.force_residual,
+        linear_residuals: report.linear_residuals,
+        seconds: at.started.elapsed().as_secs_f64(),
+        redundant_rows: redundant_now,
+        state_changes: report.state_changes,
+        reassociations,
+        sliding_points: report.springs.iter().filter(|r| r.sliding).count(),
+        yielding_points: report.soil.yielding,
+        contact_points: report
+            .springs
+            .iter()
+            .filter(|r| state.interfaces[r.interface].faces[r.face].points[r.point].in_contact())
+            .count(),
+        balance,
+    };
+    let written = Instant::now();
+    sink.step_done(&results, &record, &cx.system.stats)?;
+    cx.system.stats.output_seconds += written.elapsed().as_secs_f64();
+    Ok(())
+}
+
+/// Nodes of present soil elements and of placed bars, and nodes of neither (a rigid base).
+fn placed_nodes(model: &Model, field: &SoilField, bars: &BarStates) -> Vec<bool> {
+    let mut placed = soil::present_nodes(model, field);
+    let mut in_something = vec![false; placed.len()];
+    for e in &model.mesh.solids {
+        for &n in &e.nodes {
+            in_something[n] = true;
+        }
+    }
+    for (i, b) in model.mesh.bars.iter().enumerate() {
+        for &n in &b.nodes {
+            in_something[n] = true;
+            if !bars.absent[i] {
+                placed[n] = true;
+            }
+        }
+    }
+    for (p, used) in placed.iter_mut().zip(in_something) {
+        *p |= !used;
+    }
+    placed
+}
+
+/// `held` plus both DOFs of every node whose soil elements are all absent (and that no bar uses),
+/// and of every bar not yet placed.
+fn with_absent_nodes(model: &Model, field: &SoilField, bars: &BarStates, held: &[bool]) -> Vec<bool> {
+    let mut held = held.to_vec();
+    let present = soil::present_nodes(model, field);
+    let mut in_soil = vec![false; present.len()];
+    for e in &model.mesh.solids {
+        for &n in &e.nodes {
+            in_soil[n] = true;
+        }
+    }
+    for b in &model.mesh.bars {
+        for &n in &b.nodes {
+            in_soil[n] = false;
+        }
+    }
+    for n in 0..present.len() {
+        if in_soil[n] && !present[n] {
+            held[2 * n] = true;
+            held[2 * n + 1] = true;
+        }
+    }
+    // the nodes of reinforcement not yet placed
+    for (i, b) in model.mesh.bars.iter().enumerate() {
+        if bars.absent[i] {
+            for &n in &b.nodes {
+                held[2 * n] = true;
+                held[2 * n + 1] = true;
+            }
+        }
+    }
+    held
+}
+
+/// The out-of-balance force of the converged state under the stage's new soil configuration, on the
+/// free DOFs: f_ext − f_int − Cᵀλ.
+fn unbalance(cx: &Context, dofs: &DofMap, state: &State) -> Vec<f64> {
+    let rows = InterfaceRows::new(&cx.model.mesh, &state.interfaces, &dofs.multipliers);
+    let springs = springs::evaluate(state, &rows);
+    let taus: Vec<f64> = springs.iter().map(|r| r.tau).collect();
+    let trial = soil::evaluate(&cx.setup, &state.soil, &state.u, &state.u_committed, Tangent::Elastic);
+    let view = SoilView { field: &state.soil, trial: &trial };
+    let f_int = internal_force(&cx.elements, view, &rows, &taus, &state.bars, &state.u);
+    let f_c = constraint_force(&rows, &state.lambda, state.u.len());
+    (0..state.u.len())
+        .map(|d| if dofs.equation[d].is_some() { state.f_ext[d] - f_int[d] - f_c[d] } else { 0.0 })
+        .collect()
+}

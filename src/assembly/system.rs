@@ -1,0 +1,356 @@
+//! The global system: element matrices computed once, the saddle-point matrix of an iteration
+//! assembled in triplet form over the free DOFs and the multipliers (with its fingerprint), the
+//! internal forces and their round-off floor.
+
+use crate::dofs::DofMap;
+use crate::element::bar::{self, BarLaw, BarMaterial, BarStates};
+use crate::element::soil_state::{element_force, SoilField, SoilTrial};
+use crate::element::solid::{self, Integration, PlaneStrain};
+use crate::interface::rows::{multiplier_is_active, InterfaceRows};
+use crate::interface::Interface;
+use crate::linsol::csc::Triplets;
+use crate::mesh::Mesh;
+use nalgebra::DMatrix;
+
+/// The soil's state and its current trial, as the assembly and the internal force see them.
+#[derive(Clone, Copy)]
+pub struct SoilView<'a> {
+    pub field: &'a SoilField,
+    pub trial: &'a SoilTrial,
+}
+
+/// Element stiffness matrices with their global DOF lists (2·node + d).
+pub struct ElementMatrices {
+    pub blocks: Vec<(Vec<usize>, DMatrix<f64>)>,
+    /// For each bar (in mesh order): its block and its law. Solid blocks come first.
+    pub bars: Vec<BarLaw>,
+    /// Mean absolute diagonal entry of the blocks (see [`ElementMatrices::typical_stiffness`]).
+    typical: f64,
+}
+
+/// Sum per-DOF contributions of element blocks over `n` DOFs, in parallel: the blocks are cut into a
+/// fixed number of runs (not one per thread), each summed into a vector of its own, and the vectors
+/// are added in order, so that the result does not depend on the number of threads.
+fn par_block_sum(
+    blocks: &[(Vec<usize>, DMatrix<f64>)],
+    n: usize,
+    each: impl Fn(usize, &[usize], &DMatrix<f64>, &mut [f64]) + Sync,
+) -> Vec<f64> {
+    use rayon::prelude::*;
+    const RUNS: usize = 4;
+    const SEQUENTIAL_BELOW: usize = 4096;
+    let run = if blocks.len() < SEQUENTIAL_BELOW { blocks.len().max(1) } else { blocks.len().div_ceil(RUNS) };
+    let parts: Vec<Vec<f64>> = blocks
+        .par_chunks(run)
+        .enumerate()
+        .map(|(c, chunk)| {
+            let mut f = vec![0.0; n];
+            for (i, (dl, k)) in chunk.iter().enumerate() {
+                each(c * run + i, dl, k, &mut f);
+            }
+            f
+        })
+        .collect();
+    let mut parts = parts.into_iter();
+    let mut total = parts.next().unwrap_or_else(|| vec![0.0; n]);
+    for part in parts {
+        for (t, p) in total.iter_mut().zip(&part) {
+            *t += p;
+        }
+    }
+    total
+}
+
+impl ElementMatrices {
+    /// The stiffness of every soil element (`elastic`: its plane-strain elasticity, in mesh order;
+    /// integrated with `rule`) and every bar (`bar_materials`, in mesh order).
+    ///
+    /// # Panics
+    /// If an element's Jacobian is not positive at a Gauss point of `rule`: the model's validation
+    /// checks every element first.
+    pub fn compute(mesh: &Mesh, elastic: &[PlaneStrain], bar_materials: &[BarMaterial], rule: Integration) -> Self {
+        use rayon::prelude::*;
+        // the soil elements in parallel, collected in mesh order
+        let mut blocks: Vec<(Vec<usize>, DMatrix<f64>)> = mesh
+            .solids
+            .par_iter()
+            .enumerate()
+            .map(|(s, e)| {
+                let coords: Vec<[f64; 2]> = e.nodes.iter().map(|&n| mesh.position(n)).collect();
+                // Validation has checked every Jacobian; a failure here would be a bug, not bad input.
+                let k = solid::stiffness(e.kind, &coords, &elastic[s], rule)
+                    .expect("element Jacobians were checked when the model was read");
+                (dofs_of(&e.nodes), k)
+            })
+            .collect();
+        blocks.reserve(mesh.bars.len());
+        let mut bars = Vec::with_capacity(mesh.bars.len());
+        for (b, m) in mesh.bars.iter().zip(bar_materials) {
+            let (a, c) = (mesh.position(b.nodes[0]), mesh.position(b.nodes[1]));
+            let k = bar::stiffness(a, c, m.axial_stiffness);
+            let (axis, length) = bar::axis(a, c);
+            bars.push(BarLaw {
+                id: b.id,
+                block: blocks.len(),
+                axis,
+                length,
+                axial_stiffness: m.axial_stiffness,
+                tension_only: m.tension_only,
+                rupture_strength: m.rupture_strength,
+            });
+            blocks.push((dofs_of(&b.nodes), DMatrix::from_fn(4, 4, |i, j| k[(i, j)])));
+        }
+        let mut elements = ElementMatrices { blocks, bars, typical: 1.0 };
+        elements.typical = elements.mean_diagonal();
+        elements
+    }
+
+    /// The DOFs of bar `i`'s block.
+    pub fn bar_dofs(&self, i: usize) -> &[usize] {
+        &self.blocks[self.bars[i].block].0
+    }
+
+    /// Mean absolute diagonal entry of the element matrices: the scale of the constraint rows.
+    pub fn typical_stiffness(&self) -> f64 {
+        self.typical
+    }
+
+    fn mean_diagonal(&self) -> f64 {
+        let (sum, count) = self
+            .blocks
+            .iter()
+            .flat_map(|(_, k)| (0..k.nrows()).map(move |i| k[(i, i)].abs()))
+            .fold((0.0, 0usize), |(s, c), v| (s + v, c + 1));
+        if count == 0 || !(sum > 0.0) {
+            1.0
+        } else {
+            sum / count as f64
+        }
+    }
+}
+
+fn dofs_of(nodes: &[usize]) -> Vec<usize> {
+    nodes.iter().flat_map(|&n| [2 * n, 2 * n + 1]).collect()
+}
+
+/// Everything the saddle-point matrix of one iteration is made of. [`SystemInputs::assemble`] builds
+/// the matrix from it and [`SystemInputs::fingerprint`] hashes the same fields, so that the two
+/// cannot drift apart: an iteration whose fingerprint equals the last one's has the same matrix and
+/// reuses its factorisation.
+#[derive(Clone, Copy)]
+pub struct SystemInputs<'a> {
+    /// Computed once per run; the fingerprint leaves them out.
+    pub elements: &'a ElementMatrices,
+    pub soil: SoilView<'a>,
+    pub rows: &'a InterfaceRows,
+    /// Ks·ℓ (or the law's tangent times ℓ) of each spring.
+    pub spring_stiffness: &'a [f64],
+    /// ∂τ/∂σn of each spring (the consistent tangent's coupling to its normal multiplier), when the
+    /// scheme asks for it.
+    pub spring_coupling: Option<&'a [f64]>,
+    pub bars: &'a BarStates,
+    pub interfaces: &'a [Interface],
+    pub dofs: &'a DofMap,
+    /// The scale of the constraint rows, s.
+    pub scale: f64,
+}
+
+impl SystemInputs<'_> {
+    /// Assemble [K sCᵀ; sC sD] over the free DOFs and the multipliers, in a fixed triplet order.
+    ///
+    /// The constraint rows are scaled by `s` (a typical stiffness,
+    /// [`ElementMatrices::typical_stiffness`]) so that they are commensurate with K; the unknowns are
+    /// then Δλ/s. This equilibration keeps the saddle-point matrix well conditioned for backends
+    /// that do not scale it themselves.
+    pub fn assemble(&self) -> Triplets {
+        let SystemInputs { elements, soil, rows, spring_stiffness, spring_coupling, bars, interfaces, dofs, scale } =
+            *self;
+        let mut t = Triplets::default();
+        let eq = |d: usize| dofs.equation[d];
+        let first_bar = elements.bars.first().map_or(usize::MAX, |bar| bar.block);
+        for (b, (dl, k)) in elements.blocks.iter().enumerate() {
+            // absent soil is left out; a yielding element gives its tangent
+            let k = if b < first_bar {
+                if !soil.field.elements[b].active {
+                    continue;
+                }
+                soil.trial.tangents.get(b).and_then(|t| t.as_ref()).unwrap_or(k)
+            } else {
+                k
+            };
+            // a ruptured or not yet placed bar keeps its place in the pattern with no stiffness
+            let factor = if b >= first_bar && bars.idle(b - first_bar) { 0.0 } else { 1.0 };
+            for (a, &da) in dl.iter().enumerate() {
+                let Some(ia) = eq(da) else { continue };
+                for (b, &db) in dl.iter().enumerate() {
+                    if let Some(ib) = eq(db) {
+                        t.push(ia, ib, factor * k[(a, b)]);
+                    }
+                }
+            }
+        }
+        for (spring, k) in rows.springs.iter().zip(spring_stiffness) {
+            for &(da, ca) in &spring.row {
+                let Some(ia) = eq(da) else { continue };
+                for &(db, cb) in &spring.row {
+                    if let Some(ib) = eq(db) {
+                        t.push(ia, ib, k * ca * cb);
+                    }
+                }
+            }
+        }
+        // The consistent tangent's ∂(τ·ℓ·row)/∂λ = (∂τ/∂σn)·row in the columns of each spring's normal
+        // multiplier (unknown λ/s, hence the factor s). Always pushed under this scheme, zero where it
+        // does not apply, so the pattern does not change between iterations.
+        if let Some(coupling) = spring_coupling {
+            for (spring, &c) in rows.springs.iter().zip(coupling) {
+                let m = dofs.multiplier_equation(spring.normal_multiplier);
+                for &(d, cd) in &spring.row {
+                    if let Some(i) = eq(d) {
+                        t.push(i, m, scale * c * cd);
+                    }
+                }
+            }
+        }
+        for (k, row) in rows.constraint_rows.iter().enumerate() {
+            let m = dofs.multiplier_equation(k);
+            let active = multiplier_is_active(interfaces, dofs.multipliers[k]);
+            for &(d, c) in row {
+                if let Some(i) = eq(d) {
+                    let c = if active { scale * c } else { 0.0 };
+                    t.push(m, i, c);
+                    t.push(i, m, c);
+                }
+            }
+            t.push(m, m, if active { 0.0 } else { scale });
+        }
+        t
+    }
+
+    /// A fingerprint of everything in the assembled matrix but the element matrices (which do not
+    /// change within a run): the rows of the springs and multipliers, the springs' stiffness and
+    /// coupling, the ruptured and absent bars, the soil present and its tangents, which multipliers
+    /// are active, and the row scale.
+    pub fn fingerprint(&self) -> u64 {
+        let SystemInputs { elements: _, soil, rows, spring_stiffness, spring_coupling, bars, interfaces, dofs, scale } =
+            *self;
+        use std::hash::{Hash, Hasher};
+        let mut h = std::collections::hash_map::DefaultHasher::new();
+        let entries = |row: &[(usize, f64)], h: &mut std::collections::hash_map::DefaultHasher| {
+            row.len().hash(h);
+            for &(d, c) in row {
+                d.hash(h);
+                c.to_bits().hash(h);
+            }
+        };
+        for spring in &rows.springs {
+            entries(&spring.row, &mut h);
+        }
+        for row in &rows.constraint_rows {
+            entries(row, &mut h);
+        }
+        for k in spring_stiffness.iter().chain(spring_coupling.unwrap_or(&[])) {
+            k.to_bits().hash(&mut h);
+        }
+        bars.ruptured.hash(&mut h);
+        bars.absent.hash(&mut h);
+        for (state, tangent) in soil.field.elements.iter().zip(&soil.trial.tangents) {
+            state.active.hash(&mut h);
+            if let Some(k) = tangent {
+                for v in k.iter() {
+                    v.to_bits().hash(&mut h);
+                }
+            }
+        }
+        for k in 0..dofs.multipliers.len() {
+            multiplier_is_active(interfaces, dofs.multipliers[k]).hash(&mut h);
+        }
+        scale.to_bits().hash(&mut h);
+        h.finish()
+    }
+}
+
+/// Internal forces over all displacement DOFs: the elements' K_e·u_e plus the springs' τ·ℓ·row (the
+/// multipliers' Cᵀλ apart). `taus` holds each spring's shear stress.
+pub fn internal_force(
+    elements: &ElementMatrices,
+    soil: SoilView<'_>,
+    rows: &InterfaceRows,
+    taus: &[f64],
+    bars: &BarStates,
+    u: &[f64],
+) -> Vec<f64> {
+    let first_bar = elements.bars.first().map(|b| b.block).unwrap_or(elements.blocks.len());
+    let mut f = par_block_sum(&elements.blocks[..first_bar], u.len(), |s, dl, k, f| {
+        let state = &soil.field.elements[s];
+        if !state.active {
+            return;
+        }
+        if state.placed.is_none() && state.reference_force.is_none() && state.pore_force.is_none() {
+            // the common case (elastic soil present from the start): K_e·u_e with no copies
+            if !matches!(soil.trial.forces.get(s), Some(Some(_))) {
+                for (a, &da) in dl.iter().enumerate() {
+                    let mut sum = 0.0;
+                    for (b, &db) in dl.iter().enumerate() {
+                        sum += k[(a, b)] * u[db];
+                    }
+                    f[da] += sum;
+                }
+                return;
+            }
+        }
+        let u_e: Vec<f64> = dl.iter().map(|&d| u[d]).collect();
+        let mut fe = vec![0.0; dl.len()];
+        element_force(soil.field, soil.trial, s, k, &u_e, &mut fe);
+        for (a, &da) in dl.iter().enumerate() {
+            f[da] += fe[a];
+        }
+    });
+    for (i, bar) in elements.bars.iter().enumerate() {
+        let dl = &elements.blocks[bar.block].0;
+        let t = bar.force(u, dl, bars, i);
+        let e = bar.axis;
+        f[dl[0]] -= t * e[0];
+        f[dl[1]] -= t * e[1];
+        f[dl[2]] += t * e[0];
+        f[dl[3]] += t * e[1];
+    }
+    for (spring, tau) in rows.springs.iter().zip(taus) {
+        for &(d, c) in &spring.row {
+            f[d] += tau * spring.tributary * c;
+        }
+    }
+    f
+}
+
+/// The round-off floor of the out-of-balance force: ‖Σ_e |K_e·u_e|‖ (per DOF, the sum of the
+/// magnitudes of the element forces that cancel there) times a few ε. A residual below it cannot be
+/// reduced by iterating.
+pub fn round_off_floor(elements: &ElementMatrices, soil: SoilView<'_>, u: &[f64]) -> f64 {
+    let first_bar = elements.bars.first().map(|b| b.block).unwrap_or(elements.blocks.len());
+    let f = par_block_sum(&elements.blocks, u.len(), |s, dl, k, f| {
+        if s < first_bar {
+            let state = &soil.field.elements[s];
+            if !state.active {
+                return;
+            }
+            // the stress-carried forces: reference, Mohr–Coulomb and pore forces
+            let forces = [
+                state.reference_force.as_ref(),
+                state.pore_force.as_ref(),
+                soil.trial.forces.get(s).and_then(|f| f.as_ref()),
+            ];
+            for extra in forces.into_iter().flatten() {
+                for (a, &da) in dl.iter().enumerate() {
+                    f[da] += extra[a].abs();
+                }
+            }
+        }
+        for (a, &da) in dl.iter().enumerate() {
+            for (b, &db) in dl.iter().enumerate() {
+                f[da] += (k[(a, b)] * u[db]).abs();
+            }
+        }
+    });
+    64.0 * f64::EPSILON * f.iter().map(|v| v * v).sum::<f64>().sqrt()
+}

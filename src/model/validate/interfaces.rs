@@ -1,0 +1,145 @@
+//! Interfaces: a reinforcement path that splits the soil (with its stack of layers), or a slave
+//! line and its master face; the geometry's own problems reported under the interface's fields.
+
+use super::materials::shear_law;
+use super::Draft;
+use crate::interface::{pair, split, GeometryProblem};
+use crate::mesh::{NodeIndex, SideMap};
+use crate::model::file::*;
+use crate::model::problems::Problems;
+use std::collections::HashSet;
+
+/// Every interface, and the twins a split made in the node sets.
+pub(super) fn interfaces(d: &mut Draft, file: &ModelFile, p: &mut Problems) {
+    let Draft { mesh, mesh_ok, element_ids, reinf_index, node_sets, interfaces, twins, .. } = d;
+    let mut names = HashSet::new();
+    let mut next_bar_id = element_ids.iter().max().copied().unwrap_or(0) + 1;
+    for (k, spec) in file.interfaces.iter().enumerate() {
+        let field = format!("interfaces[{k}]");
+        let entity = format!("interface \"{}\"", spec.name);
+        if !names.insert(spec.name.clone()) {
+            p.push(format!("{field}.name"), &entity, "duplicate interface name");
+        }
+        let law = shear_law(&spec.law, &format!("{field}.law"), &entity, p);
+        let lower_law = spec.lower_law.as_ref().map(|l| shear_law(l, &format!("{field}.lower_law"), &entity, p));
+        if !*mesh_ok {
+            continue;
+        }
+        match (&spec.reinforcement, &spec.slave, &spec.master) {
+            (Some(r), None, None) => {
+                let Some(&material) = reinf_index.get(r.material.as_str()) else {
+                    p.push(
+                        format!("{field}.reinforcement.material"),
+                        &entity,
+                        format!("no reinforcement material named \"{}\"", r.material),
+                    );
+                    continue;
+                };
+                if spec.master_normal.is_some() {
+                    p.push(
+                        format!("{field}.master_normal"),
+                        &entity,
+                        "master_normal applies only to slave/master pairs",
+                    );
+                }
+                if r.line.is_some() && file.mesh.is_none() {
+                    p.push(
+                        format!("{field}.reinforcement.line"),
+                        &entity,
+                        "`line` names a physical curve of a Gmsh mesh, and the model has no `mesh`; give `path` instead",
+                    );
+                    continue;
+                }
+                let Some(law) = law else { continue };
+                let lower = match lower_law {
+                    Some(Some(l)) => l,
+                    Some(None) => continue,
+                    None => law.clone(),
+                };
+                let mut stack = split::Stack {
+                    layers: vec![(spec.name.clone(), material)],
+                    upper: law,
+                    lower,
+                    between: Vec::new(),
+                };
+                let before = p.len();
+                for (j, layer) in r.stack.iter().enumerate() {
+                    let lf = format!("{field}.reinforcement.stack[{j}]");
+                    let le = format!("{entity}, layer \"{}\"", layer.name);
+                    if !names.insert(layer.name.clone()) {
+                        p.push(format!("{lf}.name"), &le, "the name is already used by an interface or another layer");
+                    }
+                    match reinf_index.get(layer.material.as_str()) {
+                        Some(&m) => stack.layers.push((layer.name.clone(), m)),
+                        None => p.push(
+                            format!("{lf}.material"),
+                            &le,
+                            format!("no reinforcement material named \"{}\"", layer.material),
+                        ),
+                    }
+                    if let Some(l) = shear_law(&layer.law, &format!("{lf}.law"), &le, p) {
+                        stack.between.push(l);
+                    }
+                }
+                let laws = || std::iter::once(&stack.upper).chain(&stack.between).chain(std::iter::once(&stack.lower));
+                if laws().any(|l| l.is_tie()) && !laws().all(|l| l.is_tie()) {
+                    p.push(
+                        format!("{field}.lower_law"),
+                        &entity,
+                        "a `tie` law cannot be mixed with sliding laws in one reinforcement: tie every face or none",
+                    );
+                }
+                if p.len() > before {
+                    continue;
+                }
+                let sides_now = SideMap::new(mesh);
+                let split = split::split_reinforcement(mesh, &sides_now, &spec.name, &r.path, &stack, &mut next_bar_id);
+                match split {
+                    Ok((interface, record)) => {
+                        for (orig, twin) in record.twins {
+                            twins.insert(orig, twin);
+                        }
+                        for (name, set) in record.node_sets {
+                            node_sets.insert(name, set);
+                        }
+                        let index = interfaces.len();
+                        interfaces.push(interface);
+                        if let Some(mut slit) = record.slit {
+                            slit.slit_of = Some(index);
+                            interfaces.push(slit);
+                        }
+                    }
+                    Err(found) => report_geometry(p, &format!("{field}.reinforcement"), &entity, found),
+                }
+            }
+            (None, Some(slave), Some(master)) => {
+                if spec.lower_law.is_some() {
+                    p.push(format!("{field}.lower_law"), &entity, "lower_law applies only to a reinforcement");
+                }
+                let Some(law) = law else { continue };
+                let sides_now = SideMap::new(mesh);
+                match pair::pair(mesh, &sides_now, &spec.name, slave, master, spec.master_normal, law) {
+                    Ok(i) => interfaces.push(i),
+                    Err(found) => report_geometry(p, &field, &entity, found),
+                }
+            }
+            _ => p.push(
+                field,
+                &entity,
+                "give either `reinforcement` (a path to split the soil along) or both `slave` and `master`",
+            ),
+        }
+    }
+    // A split node's twin belongs to every set the original belongs to.
+    for set in node_sets.values_mut() {
+        let extra: Vec<NodeIndex> = set.iter().filter_map(|n| twins.get(n).copied()).collect();
+        set.extend(extra);
+    }
+}
+
+/// Report an interface's geometry problems under the interface's field.
+fn report_geometry(p: &mut Problems, field: &str, entity: &str, found: Vec<GeometryProblem>) {
+    for g in found {
+        p.push(format!("{field}.{}", g.place), entity, g.message);
+    }
+}

@@ -1,0 +1,178 @@
+//! Materials: soil and reinforcement properties, and the interfaces' shear laws.
+
+use super::Draft;
+use crate::interface::ShearLaw;
+use crate::model::file::*;
+use crate::model::problems::Problems;
+
+/// The soil and reinforcement materials.
+pub(super) fn materials(d: &mut Draft, file: &ModelFile, p: &mut Problems) {
+    d.soils = file.materials.soil.iter().map(|(k, v)| (k.clone(), v.clone())).collect();
+    for (name, m) in &d.soils {
+        let entity = format!("soil material \"{name}\"");
+        let f = |field: &str| format!("materials.soil.{name}.{field}");
+        if !(m.youngs_modulus.is_finite() && m.youngs_modulus > 0.0) {
+            p.push(f("youngs_modulus"), &entity, format!("must be a positive number, found {}", m.youngs_modulus));
+        }
+        if !(m.poissons_ratio.is_finite() && (0.0..0.5).contains(&m.poissons_ratio)) {
+            p.push(f("poissons_ratio"), &entity, format!("must be in [0, 0.5), found {}", m.poissons_ratio));
+        }
+        if !(m.unit_weight.is_finite() && m.unit_weight >= 0.0) {
+            p.push(f("unit_weight"), &entity, format!("must be zero or positive, found {}", m.unit_weight));
+        }
+        if let Some(g) = m.saturated_unit_weight {
+            if !(g.is_finite() && g >= 0.0) {
+                p.push(f("saturated_unit_weight"), &entity, format!("must be zero or positive, found {g}"));
+            }
+        }
+        if let Some(k0) = m.k0 {
+            if !(k0.is_finite() && k0 > 0.0) {
+                p.push(f("k0"), &entity, format!("must be a positive number, found {k0}"));
+            }
+        }
+        let plastic = m.model == SoilModel::MohrCoulomb;
+        if plastic {
+            if !(m.cohesion.is_finite() && m.cohesion >= 0.0) {
+                p.push(f("cohesion"), &entity, format!("must be zero or positive, found {}", m.cohesion));
+            }
+            if !(m.friction_angle.is_finite() && (0.0..90.0).contains(&m.friction_angle)) {
+                p.push(f("friction_angle"), &entity, format!("must be in [0, 90) degrees, found {}", m.friction_angle));
+            } else if m.cohesion == 0.0 && m.friction_angle == 0.0 {
+                p.push(f("cohesion"), &entity, "a Mohr–Coulomb soil with c = 0 and φ = 0 has no strength");
+            }
+            if !(m.dilatancy_angle.is_finite() && m.dilatancy_angle >= 0.0 && m.dilatancy_angle <= m.friction_angle) {
+                p.push(
+                    f("dilatancy_angle"),
+                    &entity,
+                    format!(
+                        "must be in [0, friction_angle = {}] degrees, found {}",
+                        m.friction_angle, m.dilatancy_angle
+                    ),
+                );
+            }
+            if let Some(t) = m.tensile_strength {
+                if !(t.is_finite() && t >= 0.0) {
+                    p.push(f("tensile_strength"), &entity, format!("must be zero or positive, found {t}"));
+                }
+            }
+        } else {
+            for (field, given) in [
+                ("cohesion", m.cohesion != 0.0),
+                ("friction_angle", m.friction_angle != 0.0),
+                ("dilatancy_angle", m.dilatancy_angle != 0.0),
+                ("tensile_strength", m.tensile_strength.is_some()),
+            ] {
+                if given {
+                    p.push(f(field), &entity, "is a strength parameter: set model = \"mohr-coulomb\" to use it");
+                }
+            }
+        }
+    }
+    d.reinforcements = file.materials.reinforcement.iter().map(|(k, v)| (k.clone(), v.clone())).collect();
+    for (name, m) in &d.reinforcements {
+        let entity = format!("reinforcement material \"{name}\"");
+        let f = |field: &str| format!("materials.reinforcement.{name}.{field}");
+        if !(m.axial_stiffness.is_finite() && m.axial_stiffness > 0.0) {
+            p.push(f("axial_stiffness"), &entity, format!("must be a positive number, found {}", m.axial_stiffness));
+        }
+        if let Some(t) = m.rupture_strength {
+            if !(t.is_finite() && t > 0.0) {
+                p.push(f("rupture_strength"), &entity, format!("must be a positive number, found {t}"));
+            }
+        }
+    }
+    d.soil_index = d.soils.iter().enumerate().map(|(i, (n, _))| (n.clone(), i)).collect();
+    d.reinf_index = d.reinforcements.iter().enumerate().map(|(i, (n, _))| (n.clone(), i)).collect();
+}
+
+/// A shear law as the file gives it, checked; `None` when it has a problem.
+pub(super) fn shear_law(spec: &ShearLawSpec, field: &str, entity: &str, p: &mut Problems) -> Option<ShearLaw> {
+    let before = p.len();
+    let positive = |name: &str, v: f64, p: &mut Problems| {
+        if !(v.is_finite() && v > 0.0) {
+            p.push(format!("{field}.{name}"), entity, format!("must be a positive number, found {v}"));
+        }
+    };
+    let non_negative = |name: &str, v: f64, p: &mut Problems| {
+        if !(v.is_finite() && v >= 0.0) {
+            p.push(format!("{field}.{name}"), entity, format!("must be zero or positive, found {v}"));
+        }
+    };
+    let angle = |name: &str, v: f64, p: &mut Problems| -> f64 {
+        if !(v.is_finite() && (0.0..90.0).contains(&v)) {
+            p.push(format!("{field}.{name}"), entity, format!("must be an angle in degrees within [0, 90), found {v}"));
+        }
+        v.to_radians().tan()
+    };
+    let law = match *spec {
+        ShearLawSpec::Tie => ShearLaw::Tie,
+        ShearLawSpec::Linear { shear_stiffness } => {
+            positive("shear_stiffness", shear_stiffness, p);
+            ShearLaw::Linear { shear_stiffness }
+        }
+        ShearLawSpec::Coulomb { shear_stiffness, cohesion, friction_angle } => {
+            positive("shear_stiffness", shear_stiffness, p);
+            non_negative("cohesion", cohesion, p);
+            let tan_friction = angle("friction_angle", friction_angle, p);
+            ShearLaw::Coulomb { shear_stiffness, cohesion, tan_friction }
+        }
+        ShearLawSpec::Hyperbolic { shear_stiffness, cohesion, friction_angle } => {
+            positive("shear_stiffness", shear_stiffness, p);
+            non_negative("cohesion", cohesion, p);
+            let tan_friction = angle("friction_angle", friction_angle, p);
+            ShearLaw::Hyperbolic { shear_stiffness, cohesion, tan_friction }
+        }
+        ShearLawSpec::PeakResidual {
+            shear_stiffness,
+            cohesion,
+            friction_angle,
+            residual_cohesion,
+            residual_friction_angle,
+        }
+        | ShearLawSpec::Softening {
+            shear_stiffness,
+            cohesion,
+            friction_angle,
+            residual_cohesion,
+            residual_friction_angle,
+            ..
+        } => {
+            positive("shear_stiffness", shear_stiffness, p);
+            non_negative("cohesion", cohesion, p);
+            non_negative("residual_cohesion", residual_cohesion, p);
+            let tan_friction = angle("friction_angle", friction_angle, p);
+            let residual_tan_friction = angle("residual_friction_angle", residual_friction_angle, p);
+            if residual_cohesion > cohesion || residual_friction_angle > friction_angle {
+                p.push(
+                    field,
+                    entity,
+                    "the residual strength must not exceed the peak: residual_cohesion ≤ cohesion and residual_friction_angle ≤ friction_angle",
+                );
+            }
+            match *spec {
+                ShearLawSpec::Softening { softening_slip, .. } => {
+                    positive("softening_slip", softening_slip, p);
+                    ShearLaw::Softening {
+                        shear_stiffness,
+                        cohesion,
+                        tan_friction,
+                        residual_cohesion,
+                        residual_tan_friction,
+                        softening_slip,
+                    }
+                }
+                _ => ShearLaw::PeakResidual {
+                    shear_stiffness,
+                    cohesion,
+                    tan_friction,
+                    residual_cohesion,
+                    residual_tan_friction,
+                },
+            }
+        }
+    };
+    if p.len() > before {
+        return None;
+    }
+    Some(law)
+}

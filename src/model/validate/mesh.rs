@@ -1,0 +1,116 @@
+//! The mesh as the file lists it: nodes, soil elements (with their Jacobians) and hand-made bars.
+
+use super::Draft;
+use crate::element::solid::{mapped_points, BadJacobian, Integration};
+use crate::mesh::{Bar, Solid};
+use crate::model::file::*;
+use crate::model::problems::Problems;
+use std::collections::HashSet;
+
+/// Nodes, soil elements and bars (soil elements and bars share one id space).
+pub(super) fn mesh(d: &mut Draft, file: &ModelFile, p: &mut Problems) {
+    let Draft { mesh, element_ids, mesh_ok, soil_index, reinf_index, .. } = d;
+    if file.nodes.is_empty() {
+        p.push("nodes", None, "the model has no nodes");
+    }
+    for (k, NodeRow(id, x, y)) in file.nodes.iter().enumerate() {
+        let entity = format!("node {id}");
+        if mesh.node_index(*id).is_some() {
+            p.push(format!("nodes[{k}]"), &entity, format!("duplicate node id {id}"));
+            continue;
+        }
+        if !(x.is_finite() && y.is_finite()) {
+            p.push(format!("nodes[{k}]"), &entity, format!("coordinates must be finite numbers, found ({x}, {y})"));
+        }
+        mesh.add_node(*id, [*x, *y]);
+    }
+
+    // Soil elements and bars share one id space.
+    for (k, e) in file.elements.iter().enumerate() {
+        let entity = format!("element {}", e.id);
+        let field = format!("elements[{k}]");
+        let before = p.len();
+        if !element_ids.insert(e.id) {
+            p.push(format!("{field}.id"), &entity, format!("duplicate element id {}", e.id));
+        }
+        if e.nodes.len() != e.kind.node_count() {
+            p.push(
+                format!("{field}.nodes"),
+                &entity,
+                format!("a {} element has {} nodes, found {}", e.kind.name(), e.kind.node_count(), e.nodes.len()),
+            );
+        }
+        let mut nodes = Vec::new();
+        for (j, id) in e.nodes.iter().enumerate() {
+            match mesh.node_index(*id) {
+                Some(i) => nodes.push(i),
+                None => p.push(format!("{field}.nodes[{j}]"), &entity, format!("node {id} does not exist")),
+            }
+        }
+        let distinct: HashSet<_> = e.nodes.iter().collect();
+        if distinct.len() != e.nodes.len() {
+            p.push(format!("{field}.nodes"), &entity, "the same node appears twice");
+        }
+        let material = soil_index.get(e.material.as_str()).copied();
+        if material.is_none() {
+            p.push(format!("{field}.material"), &entity, format!("no soil material named \"{}\"", e.material));
+        }
+        let coords: Vec<[f64; 2]> = nodes.iter().map(|&i| mesh.position(i)).collect();
+        // A node with non-finite coordinates is reported under `nodes`; its elements have no area
+        // to check.
+        let finite = coords.iter().all(|c| c[0].is_finite() && c[1].is_finite());
+        if !finite {
+            *mesh_ok = false;
+        }
+        if p.len() == before && finite {
+            if let Err(BadJacobian { det }) = mapped_points(e.kind, &coords, Integration::Full) {
+                let msg = if det < 0.0 {
+                    "has negative area or is inverted: list its corners counter-clockwise".to_string()
+                } else {
+                    "has zero area (its nodes are collinear or coincide)".to_string()
+                };
+                p.push(format!("{field}.nodes"), &entity, msg);
+            }
+        }
+        if p.len() == before {
+            mesh.solids.push(Solid { id: e.id, kind: e.kind, nodes, material: material.unwrap_or(0) });
+        } else {
+            *mesh_ok = false;
+        }
+    }
+    for (k, b) in file.bars.iter().enumerate() {
+        let entity = format!("bar {}", b.id);
+        let field = format!("bars[{k}]");
+        let before = p.len();
+        if !element_ids.insert(b.id) {
+            p.push(format!("{field}.id"), &entity, format!("duplicate element id {}", b.id));
+        }
+        let mut nodes = [0usize; 2];
+        for (j, id) in b.nodes.iter().enumerate() {
+            match mesh.node_index(*id) {
+                Some(i) => nodes[j] = i,
+                None => p.push(format!("{field}.nodes[{j}]"), &entity, format!("node {id} does not exist")),
+            }
+        }
+        let material = reinf_index.get(b.material.as_str()).copied();
+        if material.is_none() {
+            p.push(format!("{field}.material"), &entity, format!("no reinforcement material named \"{}\"", b.material));
+        }
+        if p.len() == before {
+            let (a, c) = (mesh.position(nodes[0]), mesh.position(nodes[1]));
+            if ((a[0] - c[0]).powi(2) + (a[1] - c[1]).powi(2)).sqrt()
+                <= 1e-12 * mesh.characteristic_length().max(1e-300)
+            {
+                p.push(format!("{field}.nodes"), &entity, "the bar has zero length");
+            }
+        }
+        if p.len() == before {
+            mesh.bars.push(Bar { id: b.id, nodes, material: material.unwrap_or(0) });
+        } else {
+            *mesh_ok = false;
+        }
+    }
+    if file.elements.is_empty() && file.bars.is_empty() {
+        p.push("elements", None, "the model has no elements");
+    }
+}

@@ -1,0 +1,100 @@
+//! Turn a parsed [`ModelFile`] into a checked [`Model`], listing every problem found.
+//!
+//! The checks run in the order the model is built, one concept per file: materials and shear laws,
+//! the mesh, the named sets, the interfaces (which split the soil), the supports and other node
+//! targets, the stages, the `[analysis]` settings, and last the free bodies. Each adds what it
+//! built to the [`Draft`] and its problems to the list; the model exists only when there are none.
+
+mod free_bodies;
+mod interfaces;
+mod materials;
+mod mesh;
+mod sets;
+mod stages;
+mod targets;
+
+use super::file::*;
+use super::problems::Problems;
+use super::{LoadedSide, Model, StagePlan};
+use crate::error::ModelError;
+use crate::interface::Interface;
+use crate::mesh::{Mesh, NodeIndex};
+use std::collections::{BTreeMap, HashMap, HashSet};
+use std::path::Path;
+
+/// What the checks have built so far.
+#[derive(Default)]
+struct Draft {
+    soils: Vec<(String, SoilMaterial)>,
+    reinforcements: Vec<(String, ReinforcementMaterial)>,
+    /// Material name → index into `soils` / `reinforcements`.
+    soil_index: HashMap<String, usize>,
+    reinf_index: HashMap<String, usize>,
+    mesh: Mesh,
+    /// Every node and element could be built (else the interfaces are not checked).
+    mesh_ok: bool,
+    /// Ids of the soil elements and bars (one id space).
+    element_ids: HashSet<u64>,
+    node_sets: BTreeMap<String, Vec<NodeIndex>>,
+    edge_sets: BTreeMap<String, Vec<LoadedSide>>,
+    element_sets: BTreeMap<String, Vec<usize>>,
+    interfaces: Vec<Interface>,
+    /// A split soil node → its twin on the other side of the slit.
+    twins: HashMap<NodeIndex, NodeIndex>,
+    supports: Vec<(NodeIndex, Direction)>,
+    supported: HashSet<(NodeIndex, Direction)>,
+    stages: Vec<StagePlan>,
+}
+
+pub(super) fn validate(source: &Path, file: &ModelFile) -> Result<Model, ModelError> {
+    let mut p = Problems::default();
+    let mut d = Draft { mesh_ok: true, ..Draft::default() };
+    materials::materials(&mut d, file, &mut p);
+    mesh::mesh(&mut d, file, &mut p);
+    sets::node_and_edge_sets(&mut d, file, &mut p);
+    interfaces::interfaces(&mut d, file, &mut p);
+    targets::supports(&mut d, file, &mut p);
+    sets::element_sets(&mut d, file, &mut p);
+    stages::stages(&mut d, file, &mut p);
+    analysis_settings(file, &mut p);
+    if p.is_empty() {
+        free_bodies::check_free_bodies(&d.mesh, &d.interfaces, &d.supports, d.stages.first(), &mut p);
+    }
+    if !p.is_empty() {
+        return Err(ModelError { file: source.to_path_buf(), problems: p.into_vec() });
+    }
+    Ok(Model {
+        source: source.to_path_buf(),
+        title: file.title.clone(),
+        units: file.units.clone(),
+        mesh: d.mesh,
+        soils: d.soils,
+        reinforcements: d.reinforcements,
+        node_sets: d.node_sets,
+        element_sets: d.element_sets,
+        supports: d.supports,
+        interfaces: d.interfaces,
+        stages: d.stages,
+        notes: Vec::new(),
+        analysis: file.analysis.clone(),
+        mesh_source: None,
+    })
+}
+
+/// The `[analysis]` settings.
+fn analysis_settings(file: &ModelFile, p: &mut Problems) {
+    let a = &file.analysis;
+    if !(a.force_tolerance.is_finite() && a.force_tolerance > 0.0 && a.force_tolerance < 1.0) {
+        p.push("analysis.force_tolerance", None, format!("must be in (0, 1), found {}", a.force_tolerance));
+    }
+    if !(a.displacement_tolerance.is_finite() && a.displacement_tolerance > 0.0 && a.displacement_tolerance < 1.0) {
+        p.push(
+            "analysis.displacement_tolerance",
+            None,
+            format!("must be in (0, 1), found {}", a.displacement_tolerance),
+        );
+    }
+    if a.max_iterations == 0 {
+        p.push("analysis.max_iterations", None, "must be at least 1");
+    }
+}

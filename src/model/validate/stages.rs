@@ -1,0 +1,255 @@
+//! Stages: load factors, loads, prescribed displacements, soil and reinforcement placed and
+//! removed, water, initial stresses and strength reduction.
+
+use super::Draft;
+use crate::model::file::*;
+use crate::model::problems::Problems;
+use crate::model::{Load, Model, StagePlan, StrengthReduction, WaterTable};
+use std::collections::HashSet;
+
+/// Where in the file a stage's problems are: its field and the entity messages name.
+struct At {
+    field: String,
+    entity: String,
+}
+
+/// Every stage, in order.
+pub(super) fn stages(d: &mut Draft, file: &ModelFile, p: &mut Problems) {
+    let water_weight = Model::default_water_weight(&file.units);
+
+    if file.stages.is_empty() {
+        p.push(
+            "stages",
+            None,
+            "the model has no stages: add at least one [[stages]] with loads or prescribed displacements",
+        );
+    }
+    let mut placed: HashSet<usize> = HashSet::new();
+    let mut placed_bars: HashSet<usize> = HashSet::new();
+    let mut stage_names = HashSet::new();
+    for (k, s) in file.stages.iter().enumerate() {
+        let at = At { field: format!("stages[{k}]"), entity: format!("stage \"{}\"", s.name) };
+        let At { field, entity } = &at;
+        if !stage_names.insert(s.name.clone()) {
+            p.push(format!("{field}.name"), entity, "duplicate stage name");
+        }
+        let lf = &s.load_factors;
+        if lf.is_empty()
+            || lf.iter().any(|f| !f.is_finite() || *f <= 0.0 || *f > 1.0 + 1e-12)
+            || lf.windows(2).any(|w| w[1] <= w[0])
+            || (lf[lf.len() - 1] - 1.0).abs() > 1e-12
+        {
+            p.push(
+                format!("{field}.load_factors"),
+                entity,
+                format!("load factors must increase within (0, 1] and end at 1.0, found {lf:?}"),
+            );
+        }
+        let loads = loads(d, s, &at, p);
+        let prescribed = prescribed(d, s, &at, p);
+        let (activate, activate_bars) = named_sets(d, &s.activate, "activate", &at, p);
+        let (deactivate, _) = named_sets(d, &s.deactivate, "deactivate", &at, p);
+        for &b in &activate_bars {
+            if !placed_bars.insert(b) {
+                p.push(format!("{field}.activate"), format!("bar {}", d.mesh.bars[b].id), "is placed twice");
+            }
+        }
+        for &e in &activate {
+            if !placed.insert(e) {
+                p.push(
+                    format!("{field}.activate"),
+                    format!("element {}", d.mesh.solids[e].id),
+                    "is placed twice (in two stages, or in two sets of one stage)",
+                );
+            }
+        }
+        let water = s.water.as_ref().map(|w| water(w, water_weight, &at, p));
+        let strength_reduction = s.strength_reduction.as_ref().map(|r| strength_reduction(r, s, k, &at, p));
+        d.stages.push(StagePlan {
+            name: s.name.clone(),
+            strength_reduction,
+            load_factors: lf.clone(),
+            loads,
+            prescribed,
+            activate,
+            deactivate,
+            activate_bars,
+            k0: s.initial_stress == Some(InitialStress::K0),
+            water,
+        });
+    }
+}
+
+/// The stage's loads.
+fn loads(d: &Draft, s: &Stage, at: &At, p: &mut Problems) -> Vec<Load> {
+    let At { field, entity } = at;
+    let mut loads = Vec::new();
+    for (j, l) in s.loads.iter().enumerate() {
+        let lfield = format!("{field}.loads[{j}]");
+        match l {
+            LoadSpec::EdgeTraction { edge_set, pressure, shear, .. } => {
+                if !(pressure.is_finite() && shear.is_finite()) {
+                    p.push(&lfield, entity, "pressure and shear must be finite numbers");
+                }
+                match d.edge_sets.get(edge_set) {
+                    Some(sides) => {
+                        loads.push(Load::EdgeTraction { sides: sides.clone(), pressure: *pressure, shear: *shear })
+                    }
+                    None => p.push(format!("{lfield}.edge_set"), entity, format!("no edge set named \"{edge_set}\"")),
+                }
+            }
+            LoadSpec::Point { node, nodes, set, fx, fy } => {
+                if !(fx.is_finite() && fy.is_finite()) {
+                    p.push(&lfield, entity, "fx and fy must be finite numbers");
+                }
+                for n in d.resolve(
+                    NodeTarget { node: *node, nodes: nodes.as_deref(), set: set.as_deref() },
+                    &lfield,
+                    p,
+                    false,
+                ) {
+                    loads.push(Load::Point { node: n, force: [*fx, *fy] });
+                }
+            }
+            LoadSpec::Gravity { factor } => {
+                if !factor.is_finite() {
+                    p.push(format!("{lfield}.factor"), entity, "must be a finite number");
+                }
+                if d.soils.iter().all(|(_, m)| m.unit_weight == 0.0) {
+                    p.push(&lfield, entity, "gravity is applied but every soil material has unit_weight 0");
+                }
+                loads.push(Load::Gravity { factor: *factor });
+            }
+        }
+    }
+    loads
+}
+
+/// The stage's prescribed displacements: each DOF once, none on a support.
+fn prescribed(d: &Draft, s: &Stage, at: &At, p: &mut Problems) -> Vec<(usize, Direction, f64)> {
+    let At { field, entity } = at;
+    let mut prescribed = Vec::new();
+    let mut seen = HashSet::new();
+    for (j, spec) in s.prescribed.iter().enumerate() {
+        let pfield = format!("{field}.prescribed[{j}]");
+        if spec.ux.is_none() && spec.uy.is_none() {
+            p.push(&pfield, entity, "give ux, uy or both");
+        }
+        let t = spec.target();
+        for n in d.resolve(t, &pfield, p, false) {
+            for (dir, v) in [(Direction::X, spec.ux), (Direction::Y, spec.uy)] {
+                let Some(v) = v else { continue };
+                let label = format!("node {} {}", d.mesh.node_id(n), if dir == Direction::X { "ux" } else { "uy" });
+                if !v.is_finite() {
+                    p.push(&pfield, &label, "the displacement must be a finite number");
+                } else if d.supported.contains(&(n, dir)) {
+                    p.push(&pfield, &label, "this DOF is a fixed support; it cannot also be prescribed");
+                } else if !seen.insert((n, dir)) {
+                    p.push(&pfield, &label, "this DOF is prescribed twice in the same stage");
+                } else {
+                    prescribed.push((n, dir, v));
+                }
+            }
+        }
+    }
+    prescribed
+}
+
+/// The soil elements (and, for `activate`, the reinforcements' bars) of the sets a stage names
+/// under `key`.
+fn named_sets(d: &Draft, names: &[String], key: &str, at: &At, p: &mut Problems) -> (Vec<usize>, Vec<usize>) {
+    let At { field, entity } = at;
+    let mut out = Vec::new();
+    let mut bars = Vec::new();
+    for (j, name) in names.iter().enumerate() {
+        // a reinforcement interface by name: its bars
+        let reinforcement = d.node_sets.get(&format!("{name}.reinforcement")).filter(|_| key == "activate");
+        match (d.element_sets.get(name), reinforcement) {
+            (Some(set), _) => out.extend(set.iter().copied()),
+            (None, Some(nodes)) => {
+                let nodes: HashSet<usize> = nodes.iter().copied().collect();
+                bars.extend(
+                    d.mesh
+                        .bars
+                        .iter()
+                        .enumerate()
+                        .filter(|(_, b)| b.nodes.iter().all(|n| nodes.contains(n)))
+                        .map(|(i, _)| i),
+                );
+            }
+            (None, None) => p.push(
+                format!("{field}.{key}[{j}]"),
+                entity,
+                format!(
+                    "no element set{} named \"{name}\"{}",
+                    if key == "activate" { " or reinforcement" } else { "" },
+                    if d.element_sets.is_empty() {
+                        String::new()
+                    } else {
+                        format!("; there are: {}", d.element_sets.keys().cloned().collect::<Vec<_>>().join(", "))
+                    }
+                ),
+            ),
+        }
+    }
+    (out, bars)
+}
+
+/// The stage's water table (`None`: no water, or none given).
+fn water(w: &crate::model::file::WaterTable, water_weight: f64, at: &At, p: &mut Problems) -> Option<WaterTable> {
+    let At { field, entity } = at;
+    let wfield = format!("{field}.water");
+    let given = [w.level.is_some(), w.line.is_some(), w.none].iter().filter(|&&g| g).count();
+    if given != 1 {
+        p.push(&wfield, entity, "give exactly one of `level`, `line` or `none = true`");
+    }
+    let unit_weight = w.unit_weight.unwrap_or(water_weight);
+    if !(unit_weight.is_finite() && unit_weight > 0.0) {
+        p.push(format!("{wfield}.unit_weight"), entity, format!("must be positive, found {unit_weight}"));
+    }
+    let line = match (&w.level, &w.line) {
+        (Some(y), _) => vec![[0.0, *y]],
+        (_, Some(line)) => line.clone(),
+        _ => Vec::new(),
+    };
+    if line.iter().any(|q| !(q[0].is_finite() && q[1].is_finite())) {
+        p.push(&wfield, entity, "the water table's coordinates must be finite numbers");
+    }
+    if w.line.is_some() && (line.is_empty() || line.windows(2).any(|q| !(q[1][0] > q[0][0]))) {
+        p.push(format!("{wfield}.line"), entity, "give at least one point, with x strictly increasing");
+    }
+    (!w.none && !line.is_empty()).then_some(WaterTable { line, unit_weight })
+}
+
+/// A strength-reduction stage's settings; such a stage changes nothing else and follows one that
+/// loads the model.
+fn strength_reduction(r: &StrengthReductionSpec, s: &Stage, k: usize, at: &At, p: &mut Problems) -> StrengthReduction {
+    let At { field, entity } = at;
+    let rfield = format!("{field}.strength_reduction");
+    let tolerance = r.tolerance.unwrap_or(0.002);
+    let max_factor = r.max_factor.unwrap_or(10.0);
+    if !(tolerance > 0.0 && tolerance <= 0.1) {
+        p.push(format!("{rfield}.tolerance"), entity, format!("must be in (0, 0.1], found {tolerance}"));
+    }
+    if !(max_factor > 1.0 && max_factor.is_finite()) {
+        p.push(format!("{rfield}.max_factor"), entity, format!("must be a number above 1, found {max_factor}"));
+    }
+    let busy = !s.loads.is_empty()
+        || !s.prescribed.is_empty()
+        || !s.activate.is_empty()
+        || !s.deactivate.is_empty()
+        || s.water.is_some()
+        || s.initial_stress.is_some();
+    if busy {
+        p.push(
+            &rfield,
+            entity,
+            "a strength-reduction stage changes nothing but the strengths: move its loads, prescribed \
+             displacements, activations, water and initial stresses to a stage before it",
+        );
+    }
+    if k == 0 {
+        p.push(&rfield, entity, "a strength-reduction stage needs a stage before it that loads the model");
+    }
+    StrengthReduction { soil: r.reduce == ReducedStrengths::SoilAndInterfaces, tolerance, max_factor }
+}
