@@ -8,6 +8,7 @@
 #   1. the full build, which must have MUMPS and UMFPACK when the packages are installed,
 #   2. the MPI build (--features mpi, in target/mpi): mpirun -np 2 against the sequential run, and
 #   3. a build with no native libraries (GEOSLIP_NO_NATIVE=1), which runs on faer and dense.
+# It first checks the code's layout (scripts/check-imports.py).
 # This is the command the README gives and the one CI runs (.ci/run).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -34,6 +35,9 @@ if [ -r /etc/debian_version ] && command -v apt-get >/dev/null 2>&1; then
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || native_expected=0
   done
 fi
+
+echo "== layout: no import circle, no core module on the file format"
+python3 scripts/check-imports.py
 
 echo "== full build: backends"
 cargo build --locked --quiet
