@@ -382,11 +382,30 @@ pub struct GeneratedMesh {
     pub msh: Vec<u8>,
 }
 
-/// Mesh a `.geo` file in 2-D with Debian's `gmsh` (format 4.1), and read the result.
+/// Mesh a `.geo` file in 2-D with Debian's `gmsh` (format 4.1), and read the result. Unless
+/// `trust_script`, a script that starts programs or touches files (see [`crate::geo_script`]) is
+/// refused before Gmsh is started.
 ///
 /// # Errors
-/// A [`GmshError`] when `gmsh` is not installed, fails, or writes a mesh that cannot be read.
-pub fn mesh_geometry(geometry: &Path) -> Result<(GmshMesh, GeneratedMesh), GmshError> {
+/// A [`GmshError`] when the script is refused, or when `gmsh` is not installed, fails, or writes a
+/// mesh that cannot be read.
+pub fn mesh_geometry(geometry: &Path, trust_script: bool) -> Result<(GmshMesh, GeneratedMesh), GmshError> {
+    if !trust_script {
+        let actions = crate::geo_script::actions(geometry);
+        if let Some(first) = actions.first() {
+            let list: Vec<String> =
+                actions.iter().take(5).map(|a| format!("{}:{}: {}", a.file.display(), a.line, a.what)).collect();
+            return Err(err(
+                &first.file,
+                Some(first.line),
+                format!(
+                    "the mesh script does what geoslip does not run unasked (a .geo file is a program):\n    {}\n\
+                     Read the script; if you trust it, pass --trust-geo, or mesh it yourself and point mesh.file at the .msh",
+                    list.join("\n    ")
+                ),
+            ));
+        }
+    }
     let gmsh = std::env::var_os("GEOSLIP_GMSH").unwrap_or_else(|| "gmsh".into());
     let version = Command::new(&gmsh).arg("--version").output().map_err(|e| {
         err(

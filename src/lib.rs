@@ -19,6 +19,7 @@ pub mod cli;
 pub mod dofs;
 pub mod element;
 pub mod error;
+pub mod geo_script;
 pub mod gmsh;
 pub mod interface;
 pub mod linsol;

@@ -6,7 +6,7 @@ mod progress;
 
 use crate::analysis::RunOptions;
 use crate::linsol::{Backend, Ordering, SolverOptions};
-use crate::model::{Case, Model};
+use crate::model::{Case, LoadOptions, Model};
 use crate::output::ResultWriter;
 use bench::{bench, bench_nonlinear};
 use clap::{Parser, Subcommand};
@@ -78,9 +78,18 @@ enum Command {
         /// that MUMPS estimates above it stops the run before it starts.
         #[arg(long, value_name = "MB")]
         memory_limit: Option<f64>,
+        /// Mesh a .geo script even if it runs programs or writes files (SystemCall, Printf > file,
+        /// …). A .geo file is a program: read it first.
+        #[arg(long)]
+        trust_geo: bool,
     },
     /// Check a model and list every problem found.
-    Check { model: PathBuf },
+    Check {
+        model: PathBuf,
+        /// Mesh a .geo script even if it runs programs or writes files (see `run --trust-geo`).
+        #[arg(long)]
+        trust_geo: bool,
+    },
     /// Print the JSON Schema of the model file.
     Schema,
     /// List the solver backends compiled into this build.
@@ -175,7 +184,7 @@ fn command_line() -> ExitCode {
             println!("{}", line.unwrap_or_default());
             ExitCode::SUCCESS
         }
-        Command::Check { model } => match Model::load(&model) {
+        Command::Check { model, trust_geo } => match Model::load_with(&model, LoadOptions { trust_geo }) {
             Ok(m) => {
                 println!(
                     "{}: ok — {} nodes, {} soil elements, {} bars, {} interfaces, {} stages",
@@ -196,9 +205,9 @@ fn command_line() -> ExitCode {
                 exit_code(&e)
             }
         },
-        Command::Run { model, solver, out, ordering, out_of_core, memory_limit } => {
+        Command::Run { model, solver, out, ordering, out_of_core, memory_limit, trust_geo } => {
             let options = SolverOptions { ordering, out_of_core, memory_limit_mb: memory_limit };
-            match run(&model, solver, &options, out, Verbosity::of(&cli_flags)) {
+            match run(&model, LoadOptions { trust_geo }, solver, &options, out, Verbosity::of(&cli_flags)) {
                 Ok(()) => ExitCode::SUCCESS,
                 Err(e) => {
                     eprintln!("error: {e}");
@@ -212,13 +221,14 @@ fn command_line() -> ExitCode {
 /// Run a model, or each run of its series and then the series summary.
 fn run(
     path: &std::path::Path,
+    load: LoadOptions,
     solver: Backend,
     options: &SolverOptions,
     out: Option<PathBuf>,
     verbosity: Verbosity,
 ) -> Result<(), crate::Error> {
     crate::linsol::check_available(solver)?;
-    let cases = Model::load_cases(path)?;
+    let cases = Model::load_cases_with(path, load)?;
     let out = out.unwrap_or_else(|| {
         PathBuf::from("results").join(path.file_stem().map(|s| s.to_os_string()).unwrap_or_else(|| "model".into()))
     });
@@ -243,11 +253,20 @@ fn run_series(
     let mut pullout = None;
     for case in cases {
         let label = case.label.clone().unwrap_or_default();
+        // the label holds the model's load name: one safe component inside `out`, the name cut
+        // short enough that the value always shows
+        let folder = match (&case.load, case.value) {
+            (Some(load), Some(value)) => {
+                let load: String = load.chars().take(64).collect();
+                crate::output::path_component(&format!("{load}-{value}"))
+            }
+            _ => crate::output::path_component(&label),
+        };
         if verbosity != Verbosity::Quiet {
             println!("— run {label} —");
         }
         let mut peaks = Vec::new();
-        let error = match run_case(path, &case.model, solver, options, &out.join(&label), verbosity, &mut peaks) {
+        let error = match run_case(path, &case.model, solver, options, &out.join(&folder), verbosity, &mut peaks) {
             Ok(()) => None,
             Err(e) => {
                 let message = e.to_string();
@@ -258,7 +277,7 @@ fn run_series(
         if pullout.is_none() {
             pullout = PulloutReference::of(&case.model, &peaks);
         }
-        outcomes.push(CaseOutcome { folder: label.clone(), label, value: case.value.unwrap_or(0.0), peaks, error });
+        outcomes.push(CaseOutcome { folder, label, value: case.value.unwrap_or(0.0), peaks, error });
     }
     let load = cases[0].load.clone().unwrap_or_else(|| "load".to_string());
     let summary = series::write(out, path, &load, &cases[0].model.unit_labels(), outcomes, pullout)?;

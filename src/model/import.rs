@@ -34,13 +34,13 @@ pub struct MeshRecord {
 
 /// Read the mesh the model names and write its parts into `file`. Problems go to `p`, under the
 /// field `mesh.…` or the interface's field, naming the mesh file.
-pub(super) fn import(source: &Path, file: &mut ModelFile, p: &mut Problems) -> Option<MeshRecord> {
+pub(super) fn import(source: &Path, file: &mut ModelFile, p: &mut Problems, trust_geo: bool) -> Option<MeshRecord> {
     let spec = file.mesh.clone()?;
     let dir = source.parent().unwrap_or(Path::new("."));
     let path = dir.join(&spec.file);
     let is_geo = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("geo"));
     let read = if is_geo {
-        crate::gmsh::mesh_geometry(&path).map(|(m, g)| (m, Some(g)))
+        crate::gmsh::mesh_geometry(&path, trust_geo).map(|(m, g)| (m, Some(g)))
     } else {
         GmshMesh::read(&path).map(|m| (m, None))
     };

@@ -96,6 +96,14 @@ pub struct StrengthReduction {
     pub max_factor: f64,
 }
 
+/// How a model file may be read.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct LoadOptions {
+    /// Mesh a `.geo` script even when it starts programs or writes files (`--trust-geo`): a
+    /// `.geo` file is a program, and by default one that does either is refused.
+    pub trust_geo: bool,
+}
+
 impl Model {
     /// Read and check a model file (TOML, or JSON when the name ends in `.json`).
     ///
@@ -103,9 +111,17 @@ impl Model {
     /// [`Error::Read`] or [`Error::Parse`] when the file cannot be read or parsed, and
     /// [`Error::Model`] listing every problem found in it.
     pub fn load(path: &Path) -> Result<Model, Error> {
+        Model::load_with(path, LoadOptions::default())
+    }
+
+    /// [`Model::load`] with `options`.
+    ///
+    /// # Errors
+    /// As [`Model::load`].
+    pub fn load_with(path: &Path, options: LoadOptions) -> Result<Model, Error> {
         let text = std::fs::read_to_string(path).map_err(|source| Error::Read { path: path.to_path_buf(), source })?;
         let file = parse(path, &text)?;
-        Model::from_file(path, &file).map_err(Error::Model)
+        Model::from_file_with(path, &file, options).map_err(Error::Model)
     }
 
     /// Read a model file and make one checked model per run: the model itself, or one per value of
@@ -115,10 +131,23 @@ impl Model {
     /// As [`Model::load`]; a series naming no edge-traction load, or with no values, is a
     /// [`Error::Model`].
     pub fn load_cases(path: &Path) -> Result<Vec<Case>, Error> {
+        Model::load_cases_with(path, LoadOptions::default())
+    }
+
+    /// [`Model::load_cases`] with `options`.
+    ///
+    /// # Errors
+    /// As [`Model::load_cases`].
+    pub fn load_cases_with(path: &Path, options: LoadOptions) -> Result<Vec<Case>, Error> {
         let text = std::fs::read_to_string(path).map_err(|source| Error::Read { path: path.to_path_buf(), source })?;
         let file = parse(path, &text)?;
         let Some(series) = file.series.clone() else {
-            return Ok(vec![Case { label: None, load: None, value: None, model: Model::from_file(path, &file)? }]);
+            return Ok(vec![Case {
+                label: None,
+                load: None,
+                value: None,
+                model: Model::from_file_with(path, &file, options)?,
+            }]);
         };
         let mut problems = problems::Problems::default();
         let entity = format!("load \"{}\"", series.load);
@@ -163,7 +192,7 @@ impl Model {
                     }
                 }
             }
-            let model = Model::from_file(path, &f)?;
+            let model = Model::from_file_with(path, &f, options)?;
             cases.push(Case {
                 label: Some(format!("{}-{}", series.load, value)),
                 load: Some(series.load.clone()),
@@ -179,12 +208,20 @@ impl Model {
     /// # Errors
     /// A [`ModelError`] that lists every problem found.
     pub fn from_file(source: &Path, file: &ModelFile) -> Result<Model, ModelError> {
+        Model::from_file_with(source, file, LoadOptions::default())
+    }
+
+    /// [`Model::from_file`] with `options`.
+    ///
+    /// # Errors
+    /// As [`Model::from_file`].
+    pub fn from_file_with(source: &Path, file: &ModelFile, options: LoadOptions) -> Result<Model, ModelError> {
         if file.mesh.is_none() {
             return validate::validate(source, file);
         }
         let mut file = file.clone();
         let mut problems = problems::Problems::default();
-        let record = import::import(source, &mut file, &mut problems);
+        let record = import::import(source, &mut file, &mut problems, options.trust_geo);
         if !problems.is_empty() {
             return Err(ModelError { file: source.to_path_buf(), problems: problems.into_vec() });
         }

@@ -67,6 +67,22 @@ pub fn write_run(
     Ok(seconds)
 }
 
+/// A name from the model (a stage, a series run) as one component of a path inside the output
+/// folder: ASCII letters, digits, `-` and `_` kept, anything else (`/`, `.`, `\\`, spaces) made `-`,
+/// at most 100 characters; never empty, never `.` or `..`, never absolute.
+pub fn path_component(name: &str) -> String {
+    let safe: String = name
+        .chars()
+        .take(100)
+        .map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '_' { c } else { '-' })
+        .collect();
+    if safe.is_empty() {
+        "-".to_string()
+    } else {
+        safe
+    }
+}
+
 /// Write `bytes` to `path` atomically (temporary file + rename).
 ///
 /// # Errors
@@ -75,7 +91,12 @@ pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), Error> {
     let dir = path.parent().unwrap_or(Path::new("."));
     let fail = |source: std::io::Error| Error::Write { path: path.to_path_buf(), source };
     std::fs::create_dir_all(dir).map_err(fail)?;
-    let mut tmp = tempfile::Builder::new().prefix(".partial-").tempfile_in(dir).map_err(fail)?;
+    // A result file is as readable as any file the user makes (0666 less the umask), not owner-only
+    // as a temporary file is by default.
+    let mut builder = tempfile::Builder::new();
+    #[cfg(unix)]
+    builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
+    let mut tmp = builder.prefix(".partial-").tempfile_in(dir).map_err(fail)?;
     tmp.write_all(bytes).map_err(fail)?;
     tmp.as_file().sync_all().map_err(fail)?;
     tmp.persist(path).map_err(|e| fail(e.error))?;
@@ -273,11 +294,7 @@ impl ResultWriter {
     }
 
     pub fn step_dir(&self, record: &StepRecord) -> PathBuf {
-        let name: String = record
-            .stage
-            .chars()
-            .map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '_' { c } else { '-' })
-            .collect();
+        let name = path_component(&record.stage);
         self.out.join(format!("stage-{}-{}", record.stage_index + 1, name)).join(format!("step-{:03}", record.step))
     }
 

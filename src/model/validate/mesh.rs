@@ -63,8 +63,20 @@ pub(super) fn mesh(d: &mut Draft, file: &ModelFile, p: &mut Problems) {
             *mesh_ok = false;
         }
         if p.len() == before && finite {
-            if let Err(BadJacobian { det }) = mapped_points(e.kind, &coords, Integration::Full) {
-                let msg = if det < 0.0 {
+            // every rule the run integrates with: the full one, and the 2×2 one of quad8 elements
+            // under reduced integration
+            let full = mapped_points(e.kind, &coords, Integration::Full).err();
+            let reduced = file.analysis.reduced_integration && full.is_none();
+            let bad = match full {
+                None if reduced => mapped_points(e.kind, &coords, Integration::Reduced).err(),
+                full => full,
+            };
+            if let Some(BadJacobian { det }) = bad {
+                let msg = if reduced {
+                    "is too distorted for reduced integration: its Jacobian is not positive at a 2×2 Gauss point \
+                     (move its mid-side nodes towards the middle of its sides, or set reduced_integration = false)"
+                        .to_string()
+                } else if det < 0.0 {
                     "has negative area or is inverted: list its corners counter-clockwise".to_string()
                 } else {
                     "has zero area (its nodes are collinear or coincide)".to_string()

@@ -84,15 +84,12 @@ pub(super) fn validate(source: &Path, file: &ModelFile) -> Result<Model, ModelEr
 /// The `[analysis]` settings.
 fn analysis_settings(file: &ModelFile, p: &mut Problems) {
     let a = &file.analysis;
-    if !(a.force_tolerance.is_finite() && a.force_tolerance > 0.0 && a.force_tolerance < 1.0) {
-        p.push("analysis.force_tolerance", None, format!("must be in (0, 1), found {}", a.force_tolerance));
-    }
-    if !(a.displacement_tolerance.is_finite() && a.displacement_tolerance > 0.0 && a.displacement_tolerance < 1.0) {
-        p.push(
-            "analysis.displacement_tolerance",
-            None,
-            format!("must be in (0, 1), found {}", a.displacement_tolerance),
-        );
+    // below 1e-12 a relative tolerance asks for more than double precision can give
+    let tolerances = [("force_tolerance", a.force_tolerance), ("displacement_tolerance", a.displacement_tolerance)];
+    for (name, t) in tolerances {
+        if !(t.is_finite() && (1e-12..1.0).contains(&t)) {
+            p.push(format!("analysis.{name}"), None, format!("must be in [1e-12, 1), found {t:?}"));
+        }
     }
     if a.max_iterations == 0 {
         p.push("analysis.max_iterations", None, "must be at least 1");

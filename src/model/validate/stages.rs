@@ -228,8 +228,9 @@ fn strength_reduction(r: &StrengthReductionSpec, s: &Stage, k: usize, at: &At, p
     let rfield = format!("{field}.strength_reduction");
     let tolerance = r.tolerance.unwrap_or(0.002);
     let max_factor = r.max_factor.unwrap_or(10.0);
-    if !(tolerance > 0.0 && tolerance <= 0.1) {
-        p.push(format!("{rfield}.tolerance"), entity, format!("must be in (0, 0.1], found {tolerance}"));
+    // below 1e-6 the bracket of F cannot shrink to its width in floating point: the search would not end
+    if !(tolerance >= 1e-6 && tolerance <= 0.1) {
+        p.push(format!("{rfield}.tolerance"), entity, format!("must be in [1e-6, 0.1], found {tolerance:?}"));
     }
     if !(max_factor > 1.0 && max_factor.is_finite()) {
         p.push(format!("{rfield}.max_factor"), entity, format!("must be a number above 1, found {max_factor}"));

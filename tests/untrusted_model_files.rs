@@ -1,0 +1,173 @@
+//! A model file from anyone: it never makes geoslip write outside the output folder or run a
+//! program the user did not ask for, and the results it writes are as readable as the user's other
+//! files.
+//!
+//! Reference: the project's standards ("A model file may come from anyone. It never makes geoslip
+//! write outside the output folder, run a program the user did not ask for …") and the Gmsh
+//! reference manual, "General commands" (`SystemCall` runs a shell command; `Printf … > file`
+//! writes a file).
+//!
+//! ```text
+//!   q (edge traction named by the series' load)
+//!   ┌───────┐
+//!   │ quad4 │ 1 m × 1 m
+//!   └───────┘
+//!   ▲▲▲▲▲▲▲▲▲ fixed base
+//! ```
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn geoslip() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_geoslip"))
+}
+
+/// A one-element model with a traction called `load`, and a `[series]` over it when `values` are
+/// given.
+fn block(load: &str, values: &[f64]) -> String {
+    let mut m = format!(
+        r#"units = {{ length = "m", force = "kN" }}
+nodes = [[1, 0.0, 0.0], [2, 1.0, 0.0], [3, 1.0, 1.0], [4, 0.0, 1.0]]
+elements = [{{ id = 1, type = "quad4", nodes = [1, 2, 3, 4], material = "clay" }}]
+
+[materials.soil.clay]
+youngs_modulus = 10000.0
+poissons_ratio = 0.3
+unit_weight = 18.0
+
+[node_sets]
+bottom = [1, 2]
+
+[edge_sets]
+top = [[3, 4]]
+
+[[supports]]
+set = "bottom"
+fix = ["x", "y"]
+
+[[stages]]
+name = "load"
+loads = [{{ type = "edge-traction", name = {load:?}, edge_set = "top", pressure = 10.0 }}]
+"#
+    );
+    if !values.is_empty() {
+        m += &format!("\n[series]\nload = {load:?}\nvalues = {values:?}\n");
+    }
+    m
+}
+
+/// Every file below `dir`, relative to it.
+fn files_below(dir: &Path) -> Vec<PathBuf> {
+    let mut out = Vec::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for entry in std::fs::read_dir(&d).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                stack.push(path);
+            } else {
+                out.push(path.strip_prefix(dir).unwrap().to_path_buf());
+            }
+        }
+    }
+    out
+}
+
+#[test]
+fn series_runs_named_after_a_hostile_load_stay_inside_the_output_folder() {
+    let long = "x".repeat(300);
+    for load in ["../../escaped", "/tmp/geoslip-absolute-load-name", "..", "a/../../b", long.as_str()] {
+        let base = tempfile::tempdir().unwrap();
+        let models = base.path().join("models");
+        std::fs::create_dir_all(&models).unwrap();
+        let model = models.join("block.toml");
+        std::fs::write(&model, block(load, &[5.0, 12.5])).unwrap();
+        let out = models.join("out");
+        let run = geoslip().args(["run", "-q", "--out"]).arg(&out).arg(&model).output().unwrap();
+        assert!(run.status.success(), "load {load:?}: {}", String::from_utf8_lossy(&run.stderr));
+        for file in files_below(base.path()) {
+            assert!(
+                file == Path::new("models/block.toml") || file.starts_with("models/out"),
+                "load {load:?} wrote {} outside --out",
+                file.display()
+            );
+        }
+        assert!(!Path::new("/tmp/geoslip-absolute-load-name-5").exists());
+        // one folder per run, each one path component no longer than 100 characters
+        let runs: Vec<String> = std::fs::read_dir(&out)
+            .unwrap()
+            .map(|e| e.unwrap())
+            .filter(|e| e.path().is_dir())
+            .map(|e| e.file_name().to_string_lossy().into_owned())
+            .collect();
+        assert_eq!(runs.len(), 2, "load {load:?}: {runs:?}");
+        for r in &runs {
+            assert!(r.len() <= 100 && !r.contains(['/', '.']), "load {load:?}: run folder {r:?}");
+        }
+    }
+}
+
+#[test]
+fn a_geo_script_that_runs_a_shell_command_is_refused_before_gmsh_starts() {
+    let dir = tempfile::tempdir().unwrap();
+    let marker = dir.path().join("the-script-ran");
+    let geo = format!(
+        "SystemCall \"touch {}\";\nPoint(1) = {{0, 0, 0, 0.5}};\nPoint(2) = {{1, 0, 0, 0.5}};\nLine(1) = {{1, 2}};\n",
+        marker.display()
+    );
+    std::fs::write(dir.path().join("box.geo"), geo).unwrap();
+    let model = block("q", &[]).replace(
+        "nodes = [[1, 0.0, 0.0], [2, 1.0, 0.0], [3, 1.0, 1.0], [4, 0.0, 1.0]]\nelements = [{ id = 1, type = \"quad4\", nodes = [1, 2, 3, 4], material = \"clay\" }]\n",
+        "mesh = { file = \"box.geo\", materials = { box = \"clay\" } }\n",
+    );
+    std::fs::write(dir.path().join("model.toml"), model).unwrap();
+    // a `gmsh` that records being started, ahead of any real one
+    let bin = dir.path().join("bin");
+    std::fs::create_dir_all(&bin).unwrap();
+    let started = dir.path().join("gmsh-was-started");
+    let fake = bin.join("gmsh");
+    std::fs::write(&fake, format!("#!/bin/sh\ntouch {}\nexit 1\n", started.display())).unwrap();
+    #[cfg(unix)]
+    std::fs::set_permissions(&fake, std::os::unix::fs::PermissionsExt::from_mode(0o755)).unwrap();
+    let path = format!("{}:{}", bin.display(), std::env::var("PATH").unwrap_or_default());
+    for command in ["check", "run"] {
+        let out = geoslip().arg(command).arg(dir.path().join("model.toml")).env("PATH", &path).output().unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{command}: {stderr}");
+        assert!(stderr.contains("box.geo:1: `SystemCall` runs a shell command"), "{command}: {stderr}");
+        assert!(stderr.contains("--trust-geo"), "{command}: {stderr}");
+        assert!(!started.exists(), "{command} started gmsh");
+        assert!(!marker.exists(), "{command} ran the script's shell command");
+    }
+    // asked to, geoslip hands the script to Gmsh (here the recording stand-in)
+    let out = geoslip()
+        .args(["check", "--trust-geo"])
+        .arg(dir.path().join("model.toml"))
+        .env("PATH", &path)
+        .output()
+        .unwrap();
+    assert!(started.exists(), "check --trust-geo did not start gmsh: {}", String::from_utf8_lossy(&out.stderr));
+}
+
+#[cfg(unix)]
+#[test]
+fn result_files_are_as_readable_as_the_umask_allows() {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = tempfile::tempdir().unwrap();
+    let model = dir.path().join("block.toml");
+    std::fs::write(&model, block("q", &[])).unwrap();
+    let out = dir.path().join("out");
+    let status = Command::new("sh")
+        .arg("-c")
+        .arg("umask 022 && exec \"$0\" run -q --out \"$1\" \"$2\"")
+        .arg(env!("CARGO_BIN_EXE_geoslip"))
+        .arg(&out)
+        .arg(&model)
+        .status()
+        .unwrap();
+    assert!(status.success());
+    for file in ["summary.json", "history.csv", "report.md"] {
+        let mode = std::fs::metadata(out.join(file)).unwrap().permissions().mode() & 0o777;
+        assert_eq!(mode, 0o644, "{file}");
+    }
+}
