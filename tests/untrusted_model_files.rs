@@ -1,6 +1,6 @@
 //! A model file from anyone: it never makes geoslip write outside the output folder or run a
 //! program the user did not ask for, and the results it writes are as readable as the user's other
-//! files.
+//! files; a run leaves whole steps only, whatever an earlier run into the same folder left.
 //!
 //! Reference: the project's standards ("A model file may come from anyone. It never makes geoslip
 //! write outside the output folder, run a program the user did not ask for …") and the Gmsh
@@ -169,5 +169,64 @@ fn result_files_are_as_readable_as_the_umask_allows() {
     for file in ["summary.json", "history.csv", "report.md"] {
         let mode = std::fs::metadata(out.join(file)).unwrap().permissions().mode() & 0o777;
         assert_eq!(mode, 0o644, "{file}");
+    }
+}
+
+#[test]
+fn a_run_leaves_whole_steps_over_what_a_killed_run_left() {
+    let dir = tempfile::tempdir().unwrap();
+    let model = dir.path().join("block.toml");
+    std::fs::write(&model, block("q", &[])).unwrap();
+    let out = dir.path().join("out");
+    // what a run killed mid-write leaves: a temporary file, a half-written step beside its place,
+    // and a step folder of an earlier run holding a file this run does not write
+    let stage = out.join("stage-1-load");
+    std::fs::create_dir_all(stage.join(".partial-step-001")).unwrap();
+    std::fs::create_dir_all(stage.join("step-001")).unwrap();
+    std::fs::write(out.join(".partial-summary.json.x1"), "half").unwrap();
+    std::fs::write(stage.join(".partial-step-001").join("displacements.csv"), "half").unwrap();
+    std::fs::write(stage.join("step-001").join("stale.csv"), "an earlier run").unwrap();
+    let status = geoslip().args(["run", "-q", "--out"]).arg(&out).arg(&model).status().unwrap();
+    assert!(status.success());
+    let left: Vec<PathBuf> = files_below(&out);
+    assert!(left.iter().all(|f| !f.to_string_lossy().contains(".partial-")), "{left:?}");
+    assert!(!stage.join("step-001").join("stale.csv").exists(), "{left:?}");
+    assert!(stage.join("step-001").join("displacements.csv").exists(), "{left:?}");
+    // a second run into the same folder, of a model with other stages, leaves nothing of the first
+    let renamed = block("q", &[]).replace("name = \"load\"", "name = \"surcharge\"");
+    std::fs::write(&model, renamed).unwrap();
+    let status = geoslip().args(["run", "-q", "--out"]).arg(&out).arg(&model).status().unwrap();
+    assert!(status.success());
+    assert!(!stage.exists(), "the first run's stage folder stayed");
+    assert!(out.join("stage-1-surcharge").join("step-001").join("displacements.csv").exists());
+}
+
+/// `[analysis]` counts beyond their limits.
+const COUNTS_OVER_LIMITS: &str =
+    "\n[analysis]\nmax_iterations = 100000\nmax_cutbacks = 1000\nreserved_segments = 5000\n";
+
+#[test]
+fn counts_without_a_limit_are_refused_by_check_as_by_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let model = dir.path().join("block.toml");
+    let values: Vec<f64> = (1..=1001).map(f64::from).collect();
+    std::fs::write(&model, block("q", &values) + COUNTS_OVER_LIMITS).unwrap();
+    for command in ["check", "run"] {
+        let out = geoslip().arg(command).arg(&model).output().unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{command}: {stderr}");
+        let expected = "series.values (load \"q\"): at most 1000 runs in a series, found 1001";
+        assert!(stderr.contains(expected), "{command}: {stderr}");
+    }
+    // without the series, the analysis counts are named with their limits
+    std::fs::write(&model, block("q", &[]) + COUNTS_OVER_LIMITS).unwrap();
+    let out = geoslip().arg("check").arg(&model).output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    for expected in [
+        "analysis.max_iterations: must be in [1, 10000], found 100000",
+        "analysis.max_cutbacks: must be in [0, 30], found 1000",
+        "analysis.reserved_segments: must be in [0, 1000], found 5000",
+    ] {
+        assert!(stderr.contains(expected), "{stderr}");
     }
 }

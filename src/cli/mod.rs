@@ -184,16 +184,22 @@ fn command_line() -> ExitCode {
             println!("{}", line.unwrap_or_default());
             ExitCode::SUCCESS
         }
-        Command::Check { model, trust_geo } => match Model::load_with(&model, LoadOptions { trust_geo }) {
-            Ok(m) => {
+        // the same models a run would make: a series is checked run by run
+        Command::Check { model, trust_geo } => match Model::load_cases_with(&model, LoadOptions { trust_geo }) {
+            Ok(cases) => {
+                let m = &cases[0].model;
                 println!(
-                    "{}: ok — {} nodes, {} soil elements, {} bars, {} interfaces, {} stages",
+                    "{}: ok — {} nodes, {} soil elements, {} bars, {} interfaces, {} stages{}",
                     model.display(),
                     m.mesh.nodes.len(),
                     m.mesh.solids.len(),
                     m.mesh.bars.len(),
                     m.interfaces.len(),
-                    m.stages.len()
+                    m.stages.len(),
+                    match cases.len() {
+                        1 => String::new(),
+                        n => format!("; a series of {n} runs"),
+                    }
                 );
                 for note in &m.notes {
                     println!("note: {note}");

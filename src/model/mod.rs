@@ -171,6 +171,13 @@ impl Model {
         if series.values.is_empty() {
             problems.push("series.values", &entity, "give at least one value");
         }
+        if series.values.len() > validate::MAX_SERIES_VALUES {
+            problems.push(
+                "series.values",
+                &entity,
+                format!("at most {} runs in a series, found {}", validate::MAX_SERIES_VALUES, series.values.len()),
+            );
+        }
         for (k, v) in series.values.iter().enumerate() {
             if !v.is_finite() {
                 problems.push(format!("series.values[{k}]"), &entity, format!("must be a finite number, found {v}"));

@@ -83,6 +83,65 @@ pub fn path_component(name: &str) -> String {
     }
 }
 
+/// A run into a folder that holds an earlier run's results replaces them: what a run writes there
+/// (the step folders, the ParaView files, the summary, history, report, mesh and plots) is removed
+/// first, so that nothing of the earlier run (steps beyond this run's last, other stages) stays.
+/// The folder counts as an earlier run's only when its `summary.json` says geoslip wrote it; other
+/// files are left alone.
+fn clear_earlier_run(out: &Path) -> Result<(), Error> {
+    let summary = out.join("summary.json");
+    let written_by_geoslip = std::fs::read(&summary)
+        .ok()
+        .and_then(|bytes| serde_json::from_slice::<serde_json::Value>(&bytes).ok())
+        .is_some_and(|v| v.get("geoslip_version").is_some());
+    if !written_by_geoslip {
+        return Ok(());
+    }
+    let Ok(entries) = std::fs::read_dir(out) else { return Ok(()) };
+    for entry in entries.flatten() {
+        let name = entry.file_name().to_string_lossy().into_owned();
+        let path = entry.path();
+        let is_dir = entry.file_type().is_ok_and(|t| t.is_dir());
+        let ours = if is_dir {
+            name.starts_with("stage-") || name == "vtk"
+        } else {
+            ["summary.json", "history.csv", "report.md", "results.pvd", "mesh.msh"].contains(&name.as_str())
+                || ((name.starts_with("pullout.") || name.starts_with("profiles-"))
+                    && (name.ends_with(".png") || name.ends_with(".svg")))
+        };
+        match (ours, is_dir) {
+            (true, true) => std::fs::remove_dir_all(&path).map_err(write_error(&path))?,
+            (true, false) => std::fs::remove_file(&path).map_err(write_error(&path))?,
+            _ => {}
+        }
+    }
+    Ok(())
+}
+
+/// The error of a failed write to `path`.
+fn write_error(path: &Path) -> impl FnOnce(std::io::Error) -> Error + '_ {
+    move |source| Error::Write { path: path.to_path_buf(), source }
+}
+
+/// Remove what a run killed while writing left behind in `dir` and its folders, `depth` levels
+/// down: the `.partial-*` files and step folders that geoslip writes before renaming them into place
+/// (no other program makes names of that form in an output folder).
+fn remove_partial_files(dir: &Path, depth: usize) -> Result<(), Error> {
+    let Ok(entries) = std::fs::read_dir(dir) else { return Ok(()) };
+    for entry in entries.flatten() {
+        let path = entry.path();
+        let partial = entry.file_name().to_string_lossy().starts_with(".partial-");
+        let is_dir = entry.file_type().is_ok_and(|t| t.is_dir());
+        match (partial, is_dir) {
+            (true, true) => std::fs::remove_dir_all(&path).map_err(write_error(&path))?,
+            (true, false) => std::fs::remove_file(&path).map_err(write_error(&path))?,
+            (false, true) if depth > 1 => remove_partial_files(&path, depth - 1)?,
+            _ => {}
+        }
+    }
+    Ok(())
+}
+
 /// Write `bytes` to `path` atomically (temporary file + rename).
 ///
 /// # Errors
@@ -209,6 +268,8 @@ pub struct Unknowns {
 impl ResultWriter {
     pub fn new(model: &Model, out: &Path, solver: &str) -> Result<Self, Error> {
         std::fs::create_dir_all(out).map_err(|source| Error::Write { path: out.to_path_buf(), source })?;
+        remove_partial_files(out, 3)?;
+        clear_earlier_run(out)?;
         let mut targets = Vec::new();
         for stage in &model.stages {
             for &(n, d, _) in &stage.prescribed {
@@ -460,8 +521,19 @@ impl StepSink for ResultWriter {
     }
 
     fn step_done(&mut self, results: &StepResults, record: &StepRecord, stats: &SolverStats) -> Result<(), Error> {
+        // the step's folder appears whole or not at all: written beside it, then renamed into place
+        // (over the same step of an earlier run into this folder)
         let dir = self.step_dir(record);
-        self.write_step_files(&dir, results)?;
+        let name = dir.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+        let partial = dir.with_file_name(format!(".partial-{name}"));
+        if partial.exists() {
+            std::fs::remove_dir_all(&partial).map_err(write_error(&partial))?;
+        }
+        self.write_step_files(&partial, results)?;
+        if dir.exists() {
+            std::fs::remove_dir_all(&dir).map_err(write_error(&dir))?;
+        }
+        std::fs::rename(&partial, &dir).map_err(write_error(&dir))?;
         self.vtk.write_step(self.summary.steps.len() + 1, results)?;
         let when = format!("stage \"{}\" step {} (load factor {:.4})", record.stage, record.step, record.load_factor);
         if !self.slip_started && record.sliding_points > 0 {

@@ -91,7 +91,26 @@ fn analysis_settings(file: &ModelFile, p: &mut Problems) {
             p.push(format!("analysis.{name}"), None, format!("must be in [1e-12, 1), found {t:?}"));
         }
     }
-    if a.max_iterations == 0 {
-        p.push("analysis.max_iterations", None, "must be at least 1");
+    // counts bounded so that no model makes a run loop or allocate without a limit it names
+    let counts = [
+        ("max_iterations", a.max_iterations, 1, MAX_ITERATIONS),
+        ("max_cutbacks", a.max_cutbacks, 0, MAX_CUTBACKS),
+        ("reserved_segments", a.reserved_segments, 0, MAX_RESERVED_SEGMENTS),
+    ];
+    for (name, value, low, high) in counts {
+        if !(low..=high).contains(&value) {
+            p.push(format!("analysis.{name}"), None, format!("must be in [{low}, {high}], found {value}"));
+        }
     }
 }
+
+/// The most equilibrium iterations an increment may be given.
+pub const MAX_ITERATIONS: usize = 10_000;
+/// The most halvings of one increment (2⁻³⁰ of it is below any meaningful load step).
+pub const MAX_CUTBACKS: usize = 30;
+/// The most master segments reserved either side of an interface point.
+pub const MAX_RESERVED_SEGMENTS: usize = 1_000;
+/// The most load factors of one stage.
+pub const MAX_LOAD_FACTORS: usize = 10_000;
+/// The most runs of a series.
+pub const MAX_SERIES_VALUES: usize = 1_000;

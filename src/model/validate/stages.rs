@@ -34,7 +34,13 @@ pub(super) fn stages(d: &mut Draft, file: &ModelFile, p: &mut Problems) {
             p.push(format!("{field}.name"), entity, "duplicate stage name");
         }
         let lf = &s.load_factors;
-        if lf.is_empty()
+        if lf.len() > super::MAX_LOAD_FACTORS {
+            p.push(
+                format!("{field}.load_factors"),
+                entity,
+                format!("at most {} load factors a stage, found {}", super::MAX_LOAD_FACTORS, lf.len()),
+            );
+        } else if lf.is_empty()
             || lf.iter().any(|f| !f.is_finite() || *f <= 0.0 || *f > 1.0 + 1e-12)
             || lf.windows(2).any(|w| w[1] <= w[0])
             || (lf[lf.len() - 1] - 1.0).abs() > 1e-12
@@ -229,7 +235,7 @@ fn strength_reduction(r: &StrengthReductionSpec, s: &Stage, k: usize, at: &At, p
     let tolerance = r.tolerance.unwrap_or(0.002);
     let max_factor = r.max_factor.unwrap_or(10.0);
     // below 1e-6 the bracket of F cannot shrink to its width in floating point: the search would not end
-    if !(tolerance >= 1e-6 && tolerance <= 0.1) {
+    if !(1e-6..=0.1).contains(&tolerance) {
         p.push(format!("{rfield}.tolerance"), entity, format!("must be in [1e-6, 0.1], found {tolerance:?}"));
     }
     if !(max_factor > 1.0 && max_factor.is_finite()) {
