@@ -123,20 +123,23 @@ fn write_error(path: &Path) -> impl FnOnce(std::io::Error) -> Error + '_ {
     move |source| Error::Write { path: path.to_path_buf(), source }
 }
 
-/// Remove what a run killed while writing left behind in `dir` and its folders, `depth` levels
-/// down: the `.partial-*` files and step folders that geoslip writes before renaming them into place
-/// (no other program makes names of that form in an output folder).
-fn remove_partial_files(dir: &Path, depth: usize) -> Result<(), Error> {
-    let Ok(entries) = std::fs::read_dir(dir) else { return Ok(()) };
+/// Remove what a run killed while writing left behind in `out`: the `.partial-*` files and step
+/// folders that geoslip writes before renaming them into place, in `out` itself and in the folders
+/// a run writes there (`stage-*`, `vtk`); nothing deeper, and nothing else.
+fn remove_partial_files(out: &Path) -> Result<(), Error> {
+    let Ok(entries) = std::fs::read_dir(out) else { return Ok(()) };
     for entry in entries.flatten() {
+        let name = entry.file_name().to_string_lossy().into_owned();
         let path = entry.path();
-        let partial = entry.file_name().to_string_lossy().starts_with(".partial-");
         let is_dir = entry.file_type().is_ok_and(|t| t.is_dir());
-        match (partial, is_dir) {
-            (true, true) => std::fs::remove_dir_all(&path).map_err(write_error(&path))?,
-            (true, false) => std::fs::remove_file(&path).map_err(write_error(&path))?,
-            (false, true) if depth > 1 => remove_partial_files(&path, depth - 1)?,
-            _ => {}
+        if name.starts_with(".partial-") {
+            if is_dir {
+                std::fs::remove_dir_all(&path).map_err(write_error(&path))?;
+            } else {
+                std::fs::remove_file(&path).map_err(write_error(&path))?;
+            }
+        } else if is_dir && (name.starts_with("stage-") || name == "vtk") {
+            remove_partial_files(&path)?;
         }
     }
     Ok(())
@@ -268,7 +271,7 @@ pub struct Unknowns {
 impl ResultWriter {
     pub fn new(model: &Model, out: &Path, solver: &str) -> Result<Self, Error> {
         std::fs::create_dir_all(out).map_err(|source| Error::Write { path: out.to_path_buf(), source })?;
-        remove_partial_files(out, 3)?;
+        remove_partial_files(out)?;
         clear_earlier_run(out)?;
         let mut targets = Vec::new();
         for stage in &model.stages {
