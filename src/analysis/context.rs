@@ -29,6 +29,8 @@ pub struct Context<'a> {
     pub gravity: f64,
     /// The soil's weight and the boundary water pressure now in the applied force.
     pub applied_weight: Vec<f64>,
+    /// The mesh's characteristic length (the scale of gaps and of the force floor).
+    pub characteristic: f64,
 }
 
 impl<'a> Context<'a> {
@@ -60,6 +62,7 @@ impl<'a> Context<'a> {
             held,
             gravity: 0.0,
             applied_weight: vec![0.0; dof_count],
+            characteristic: model.mesh.characteristic_length(),
         })
     }
 }

@@ -307,7 +307,7 @@ fn check(
     clip(cx, state);
     let rows = InterfaceRows::new(&cx.model.mesh, &state.interfaces, &dofs.multipliers);
     let springs = springs::evaluate(state, &rows);
-    let characteristic = cx.model.mesh.characteristic_length();
+    let characteristic = cx.characteristic;
     let force_floor = state
         .f_ext
         .iter()

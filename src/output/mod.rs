@@ -103,7 +103,7 @@ fn clear_earlier_run(out: &Path) -> Result<(), Error> {
         let path = entry.path();
         let is_dir = entry.file_type().is_ok_and(|t| t.is_dir());
         let ours = if is_dir {
-            name.starts_with("stage-") || name == "vtk"
+            is_run_folder(&name)
         } else {
             ["summary.json", "history.csv", "report.md", "results.pvd", "mesh.msh"].contains(&name.as_str())
                 || ((name.starts_with("pullout.") || name.starts_with("profiles-"))
@@ -116,6 +116,12 @@ fn clear_earlier_run(out: &Path) -> Result<(), Error> {
         }
     }
     Ok(())
+}
+
+/// The folders a run writes in its output folder: one per stage (see `ResultWriter::step_dir`) and
+/// the ParaView parts (`vtk`).
+fn is_run_folder(name: &str) -> bool {
+    name.starts_with("stage-") || name == "vtk"
 }
 
 /// The error of a failed write to `path`.
@@ -138,7 +144,7 @@ fn remove_partial_files(out: &Path) -> Result<(), Error> {
             } else {
                 std::fs::remove_file(&path).map_err(write_error(&path))?;
             }
-        } else if is_dir && (name.starts_with("stage-") || name == "vtk") {
+        } else if is_dir && is_run_folder(&name) {
             remove_partial_files(&path)?;
         }
     }
