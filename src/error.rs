@@ -3,6 +3,9 @@
 use std::fmt;
 use std::path::PathBuf;
 
+pub mod native;
+pub use native::{MumpsCode, Phase, UmfpackStatus};
+
 /// One problem found in a model file.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Problem {
@@ -49,6 +52,24 @@ pub enum SolveError {
     /// The matrix is singular; `unknowns` names what is unconstrained.
     #[error("the system is singular ({backend}): {}", .unknowns.join("; "))]
     Singular { backend: &'static str, unknowns: Vec<String> },
+    /// The matrix is too ill-conditioned to factorise reliably: its pivots looked singular, but the
+    /// stiffnesses on its diagonal are many orders of magnitude apart.
+    #[error(
+        "the system is ill-conditioned, not shown to be singular ({backend}): the stiffness on the diagonal \
+         ranges from {softest_value:.3e} at {softest} to {stiffest_value:.3e} at {stiffest}, a ratio of {ratio:.1e}, \
+         beyond the 1e12 that double precision factorises reliably, and {null_pivots} pivots vanished in round-off. \
+         Bring the stiffnesses closer (the soil's Young's modulus against the reinforcement's EA and the \
+         interfaces' Ks, in consistent units)"
+    )]
+    IllConditioned {
+        backend: &'static str,
+        ratio: f64,
+        softest: String,
+        softest_value: f64,
+        stiffest: String,
+        stiffest_value: f64,
+        null_pivots: usize,
+    },
     /// The dense reference solver refuses systems above its size limit.
     #[error(
         "the dense reference solver handles at most {limit} unknowns and this system has {size}; \
@@ -62,9 +83,43 @@ pub enum SolveError {
     /// the work started.
     #[error(transparent)]
     OutOfMemory(Box<MemoryShortfall>),
-    /// A backend failed for a reason of its own.
+    /// MUMPS returned an error code (INFOG(1) < 0).
+    #[error(
+        "MUMPS {phase}: {} (INFOG(1) = {infog1}, INFOG(2) = {infog2}){}{}",
+        code.meaning(),
+        retries_text(*workspace_retries),
+        hint_text(code.hint())
+    )]
+    Mumps { phase: Phase, code: MumpsCode, infog1: i32, infog2: i64, workspace_retries: usize },
+    /// UMFPACK returned an error status (or a warning that makes the result unusable).
+    #[error("UMFPACK {phase}: {} (status {status}){}", code.meaning(), hint_text(code.hint()))]
+    Umfpack { phase: Phase, code: UmfpackStatus, status: i64 },
+    /// A backend failed for a reason of its own (not a library status code).
     #[error("{backend} failed: {message}")]
     Backend { backend: &'static str, message: String },
+}
+
+impl SolveError {
+    /// The typed error of a MUMPS INFOG(1) and INFOG(2).
+    pub fn mumps(phase: Phase, infog1: i32, infog2: i64) -> SolveError {
+        SolveError::Mumps { phase, code: MumpsCode::from_code(infog1), infog1, infog2, workspace_retries: 0 }
+    }
+
+    /// The typed error of a UMFPACK status.
+    pub fn umfpack(phase: Phase, status: i64) -> SolveError {
+        SolveError::Umfpack { phase, code: UmfpackStatus::from_code(status), status }
+    }
+}
+
+fn retries_text(retries: usize) -> String {
+    match retries {
+        0 => String::new(),
+        n => format!(" after {n} workspace increases"),
+    }
+}
+
+fn hint_text(hint: Option<&str>) -> String {
+    hint.map(|h| format!("; {h}")).unwrap_or_default()
 }
 
 /// What would not fit in memory, and what to do.
@@ -104,6 +159,21 @@ pub enum Error {
         residual: f64,
         reference: f64,
         hint: String,
+    },
+    #[error(
+        "{}: stage \"{stage}\", step {step}: a number that is not finite ({value}) appeared in iteration \
+         {iteration}, first in {location} (after {cutbacks} cutbacks). Check the values that feed it (loads, \
+         stiffnesses, strengths and their units): one that overflows, or a law evaluated where it is undefined, \
+         gives such a number", .file.display()
+    )]
+    NonFinite {
+        file: PathBuf,
+        stage: String,
+        step: usize,
+        iteration: usize,
+        value: f64,
+        location: String,
+        cutbacks: usize,
     },
     #[error("{path}: cannot write output: {source}")]
     Write { path: PathBuf, source: std::io::Error },

@@ -389,22 +389,29 @@ pub struct GeneratedMesh {
 /// # Errors
 /// A [`GmshError`] when the script is refused, or when `gmsh` is not installed, fails, or writes a
 /// mesh that cannot be read.
+/// Refuse a `.geo` script that runs programs or touches files (see `geo_script`).
+///
+/// # Errors
+/// The first such command's file and line, with up to five of them listed.
+pub fn refuse_script_actions(geometry: &Path) -> Result<(), GmshError> {
+    let actions = crate::geo_script::actions(geometry);
+    let Some(first) = actions.first() else { return Ok(()) };
+    let list: Vec<String> =
+        actions.iter().take(5).map(|a| format!("{}:{}: {}", a.file.display(), a.line, a.what)).collect();
+    Err(err(
+        &first.file,
+        Some(first.line),
+        format!(
+            "the mesh script does what geoslip does not run unasked (a .geo file is a program):\n    {}\n\
+             Read the script; if you trust it, pass --trust-geo, or mesh it yourself and point mesh.file at the .msh",
+            list.join("\n    ")
+        ),
+    ))
+}
+
 pub fn mesh_geometry(geometry: &Path, trust_script: bool) -> Result<(GmshMesh, GeneratedMesh), GmshError> {
     if !trust_script {
-        let actions = crate::geo_script::actions(geometry);
-        if let Some(first) = actions.first() {
-            let list: Vec<String> =
-                actions.iter().take(5).map(|a| format!("{}:{}: {}", a.file.display(), a.line, a.what)).collect();
-            return Err(err(
-                &first.file,
-                Some(first.line),
-                format!(
-                    "the mesh script does what geoslip does not run unasked (a .geo file is a program):\n    {}\n\
-                     Read the script; if you trust it, pass --trust-geo, or mesh it yourself and point mesh.file at the .msh",
-                    list.join("\n    ")
-                ),
-            ));
-        }
+        refuse_script_actions(geometry)?;
     }
     let gmsh = std::env::var_os("GEOSLIP_GMSH").unwrap_or_else(|| "gmsh".into());
     let version = Command::new(&gmsh).arg("--version").output().map_err(|e| {

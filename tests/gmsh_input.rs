@@ -209,7 +209,7 @@ fn unsupported_elements_and_missing_nodes_are_reported() {
 fn a_geo_file_without_gmsh_is_a_clear_error() {
     let dir = tempfile::tempdir().unwrap();
     let status = Command::new(env!("CARGO_BIN_EXE_geoslip"))
-        .args(["check"])
+        .args(["check", "--mesh"])
         .arg(example_dir().join("lab-pullout.toml"))
         .env("GEOSLIP_GMSH", dir.path().join("no-gmsh-here"))
         .output()

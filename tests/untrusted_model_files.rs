@@ -107,6 +107,26 @@ fn series_runs_named_after_a_hostile_load_stay_inside_the_output_folder() {
     }
 }
 
+/// A model meshed from `box.geo` (holding `geo`) in `dir`, and a `gmsh` stand-in that records being
+/// started, ahead of any real one on the PATH. Returns the model, the PATH and the record's path.
+fn geo_model_with_recording_gmsh(dir: &Path, geo: &str) -> (PathBuf, String, PathBuf) {
+    std::fs::write(dir.join("box.geo"), geo).unwrap();
+    let model = block("q", &[]).replace(
+        "nodes = [[1, 0.0, 0.0], [2, 1.0, 0.0], [3, 1.0, 1.0], [4, 0.0, 1.0]]\nelements = [{ id = 1, type = \"quad4\", nodes = [1, 2, 3, 4], material = \"clay\" }]\n",
+        "mesh = { file = \"box.geo\", materials = { box = \"clay\" } }\n",
+    );
+    std::fs::write(dir.join("model.toml"), model).unwrap();
+    let bin = dir.join("bin");
+    std::fs::create_dir_all(&bin).unwrap();
+    let started = dir.join("gmsh-was-started");
+    let fake = bin.join("gmsh");
+    std::fs::write(&fake, format!("#!/bin/sh\ntouch {}\nexit 1\n", started.display())).unwrap();
+    #[cfg(unix)]
+    std::fs::set_permissions(&fake, std::os::unix::fs::PermissionsExt::from_mode(0o755)).unwrap();
+    let path = format!("{}:{}", bin.display(), std::env::var("PATH").unwrap_or_default());
+    (dir.join("model.toml"), path, started)
+}
+
 #[test]
 fn a_geo_script_that_runs_a_shell_command_is_refused_before_gmsh_starts() {
     let dir = tempfile::tempdir().unwrap();
@@ -115,23 +135,9 @@ fn a_geo_script_that_runs_a_shell_command_is_refused_before_gmsh_starts() {
         "SystemCall \"touch {}\";\nPoint(1) = {{0, 0, 0, 0.5}};\nPoint(2) = {{1, 0, 0, 0.5}};\nLine(1) = {{1, 2}};\n",
         marker.display()
     );
-    std::fs::write(dir.path().join("box.geo"), geo).unwrap();
-    let model = block("q", &[]).replace(
-        "nodes = [[1, 0.0, 0.0], [2, 1.0, 0.0], [3, 1.0, 1.0], [4, 0.0, 1.0]]\nelements = [{ id = 1, type = \"quad4\", nodes = [1, 2, 3, 4], material = \"clay\" }]\n",
-        "mesh = { file = \"box.geo\", materials = { box = \"clay\" } }\n",
-    );
-    std::fs::write(dir.path().join("model.toml"), model).unwrap();
-    // a `gmsh` that records being started, ahead of any real one
-    let bin = dir.path().join("bin");
-    std::fs::create_dir_all(&bin).unwrap();
-    let started = dir.path().join("gmsh-was-started");
-    let fake = bin.join("gmsh");
-    std::fs::write(&fake, format!("#!/bin/sh\ntouch {}\nexit 1\n", started.display())).unwrap();
-    #[cfg(unix)]
-    std::fs::set_permissions(&fake, std::os::unix::fs::PermissionsExt::from_mode(0o755)).unwrap();
-    let path = format!("{}:{}", bin.display(), std::env::var("PATH").unwrap_or_default());
+    let (model, path, started) = geo_model_with_recording_gmsh(dir.path(), &geo);
     for command in ["check", "run"] {
-        let out = geoslip().arg(command).arg(dir.path().join("model.toml")).env("PATH", &path).output().unwrap();
+        let out = geoslip().arg(command).arg(&model).env("PATH", &path).output().unwrap();
         let stderr = String::from_utf8_lossy(&out.stderr);
         assert_eq!(out.status.code(), Some(2), "{command}: {stderr}");
         assert!(stderr.contains("box.geo:1: `SystemCall` runs a shell command"), "{command}: {stderr}");
@@ -140,13 +146,29 @@ fn a_geo_script_that_runs_a_shell_command_is_refused_before_gmsh_starts() {
         assert!(!marker.exists(), "{command} ran the script's shell command");
     }
     // asked to, geoslip hands the script to Gmsh (here the recording stand-in)
-    let out = geoslip()
-        .args(["check", "--trust-geo"])
-        .arg(dir.path().join("model.toml"))
-        .env("PATH", &path)
-        .output()
-        .unwrap();
+    let out = geoslip().args(["check", "--mesh", "--trust-geo"]).arg(&model).env("PATH", &path).output().unwrap();
     assert!(started.exists(), "check --trust-geo did not start gmsh: {}", String::from_utf8_lossy(&out.stderr));
+}
+
+#[test]
+fn check_runs_no_program_unless_asked_to_mesh() {
+    // a script that does nothing refused: check reads it but starts no Gmsh; with --mesh it does
+    let dir = tempfile::tempdir().unwrap();
+    let (model, path, started) =
+        geo_model_with_recording_gmsh(dir.path(), "Point(1) = {0, 0, 0, 0.5};\nPoint(2) = {1, 0, 0, 0.5};\n");
+    let out = geoslip().arg("check").arg(&model).env("PATH", &path).output().unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(stdout.contains("not checked") && stdout.contains("check --mesh"), "{stdout}");
+    assert!(!started.exists(), "check started gmsh unasked");
+    let _ = geoslip().args(["check", "--mesh"]).arg(&model).env("PATH", &path).output().unwrap();
+    assert!(started.exists(), "check --mesh did not start gmsh");
+    // a missing script is named
+    std::fs::remove_file(dir.path().join("box.geo")).unwrap();
+    let out = geoslip().arg("check").arg(&model).env("PATH", &path).output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("mesh.file") && stderr.contains("box.geo: no such file"), "{stderr}");
 }
 
 #[cfg(unix)]

@@ -6,6 +6,7 @@
 //! displacements so far, for an increment that moves almost nothing) or this was the first solve. A
 //! residual that is not finite is a divergence.
 
+use super::non_finite::NonFinite;
 use super::state::State;
 use crate::assembly::{internal_force, ElementMatrices, SoilView};
 use crate::dofs::DofMap;
@@ -18,7 +19,18 @@ use crate::model::AnalysisSettings;
 /// Why an increment failed, before the stage and step are known.
 pub enum IncrementError {
     Solve(SolveError),
-    NotConverged { iterations: usize, residual: f64, reference: f64, unsettled: Vec<String>, yielding: usize },
+    /// A number that is not finite appeared in an iteration.
+    NonFinite {
+        iteration: usize,
+        first: NonFinite,
+    },
+    NotConverged {
+        iterations: usize,
+        residual: f64,
+        reference: f64,
+        unsettled: Vec<String>,
+        yielding: usize,
+    },
 }
 
 impl IncrementError {
@@ -26,6 +38,9 @@ impl IncrementError {
     pub fn describe(&self) -> String {
         match self {
             IncrementError::Solve(e) => format!("the solve failed: {e}"),
+            IncrementError::NonFinite { iteration, first } => {
+                format!("a non-finite number ({}) in iteration {iteration}, first in {}", first.value, first.location)
+            }
             IncrementError::NotConverged { iterations, residual, reference, unsettled, yielding } => {
                 let mut s = format!(
                     "no equilibrium after {iterations} iterations (force residual {:.1e} of the reference)",
@@ -42,9 +57,9 @@ impl IncrementError {
         }
     }
 
-    /// A failure that a smaller increment may cure.
+    /// A failure that a smaller increment may cure (an overflow from too large a step may be).
     pub fn retryable(&self) -> bool {
-        matches!(self, IncrementError::NotConverged { .. })
+        matches!(self, IncrementError::NotConverged { .. } | IncrementError::NonFinite { .. })
     }
 
     /// The run's error, at a stage and step.
@@ -53,6 +68,15 @@ impl IncrementError {
             IncrementError::Solve(source) => {
                 Error::Solve { file: file.to_path_buf(), stage: stage.to_string(), step, source }
             }
+            IncrementError::NonFinite { iteration, first } => Error::NonFinite {
+                file: file.to_path_buf(),
+                stage: stage.to_string(),
+                step,
+                iteration,
+                value: first.value,
+                location: first.location,
+                cutbacks,
+            },
             IncrementError::NotConverged { iterations, residual, reference, unsettled, yielding } => Error::NotConverged {
                 file: file.to_path_buf(),
                 stage: stage.to_string(),

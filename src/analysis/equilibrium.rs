@@ -12,6 +12,7 @@
 
 use super::context::{element_matrices, Context};
 use super::convergence::{displacement_ok, gaps_closed, out_of_balance, IncrementError, Measures};
+use super::non_finite::{self, Iterate};
 use super::singular::{self, Fallbacks, Recovered, SingularMatrix};
 use super::soil;
 use super::springs::{self, SpringResult};
@@ -52,6 +53,10 @@ struct Iterations {
     fallbacks: Fallbacks,
     /// The soil evaluated at the current iterate by the last convergence check.
     carried_soil: Option<SoilTrial>,
+    /// The iteration under way.
+    iteration: usize,
+    /// The last out-of-balance force and its reference.
+    last_residual: Option<(f64, f64)>,
 }
 
 /// The linearisation at one iterate: what the matrix and the right-hand side are built from.
@@ -94,10 +99,13 @@ pub fn equilibrium(cx: &mut Context, dofs: &DofMap, state: &mut State) -> Result
             dependent_retries: 0,
         },
         carried_soil: None,
+        iteration: 0,
+        last_residual: None,
     };
     let max_iterations = cx.options.analysis.max_iterations;
     for iteration in 1..=max_iterations {
         cx.system.stats.iterations += 1;
+        it.iteration = iteration;
         let linear = linearise(cx, dofs, state, &mut it, iteration);
         let Some(Solution { x, scale, rhs }) = solve(cx, dofs, state, &mut it, &linear)? else { continue };
         let step = if linear.soil_trial.yielding > 0 && linear.tangent != Tangent::Elastic {
@@ -111,11 +119,13 @@ pub fn equilibrium(cx: &mut Context, dofs: &DofMap, state: &mut State) -> Result
             None => continue,
         }
     }
+    // every iteration ended in a recovery from a singular matrix
+    let (residual, reference) = it.last_residual.unwrap_or((0.0, 0.0));
     Err(IncrementError::NotConverged {
-        iterations: 0,
-        residual: f64::NAN,
-        reference: f64::NAN,
-        unsettled: Vec::new(),
+        iterations: max_iterations,
+        residual,
+        reference: reference.max(f64::MIN_POSITIVE),
+        unsettled: it.state_changes.iter().rev().take(12).cloned().collect(),
         yielding: 0,
     })
 }
@@ -242,6 +252,14 @@ fn solve(
         inputs(&cx.elements, &linear.soil_trial, &linear.rows, stiffness, linear.coupling.as_deref(), dofs, state);
     let IterationSystem { triplets, rhs, scale, active } = iteration_system(system, &linear.springs, state, !reuse);
     cx.system.stats.assembly_seconds += t.elapsed().as_secs_f64();
+    let iterate =
+        Iterate { mesh: &cx.model.mesh, dofs, state, soil_trial: Some(&linear.soil_trial), springs: &linear.springs };
+    if rhs.iter().chain(&triplets.values).any(|v| !v.is_finite()) {
+        let first = non_finite::in_iterate(&iterate).or_else(|| non_finite::in_system(&iterate, &rhs, &triplets));
+        if let Some(first) = first {
+            return Err(IncrementError::NonFinite { iteration: it.iteration, first });
+        }
+    }
     let reused = if reuse { cx.system.solve_again(&rhs).ok() } else { None };
     let triplets = match reused {
         Some(_) => triplets,
@@ -257,6 +275,19 @@ fn solve(
     it.matrix_key = Some(linear.key);
     match reused.map_or_else(|| cx.system.solve(dofs.size(), &triplets, &rhs, active), Ok) {
         Ok((x, linear_residual)) => {
+            if !reuse {
+                singular::warn_if_ill_conditioned(cx, dofs, state, &triplets);
+            }
+            let iterate = Iterate {
+                mesh: &cx.model.mesh,
+                dofs,
+                state,
+                soil_trial: Some(&linear.soil_trial),
+                springs: &linear.springs,
+            };
+            if let Some(first) = non_finite::in_solution(&iterate, &x) {
+                return Err(IncrementError::NonFinite { iteration: it.iteration, first });
+            }
             it.linear_residuals.push(linear_residual);
             Ok(Some(Solution { x, scale, rhs }))
         }
@@ -337,15 +368,18 @@ fn check(
     let soil_trial = soil::evaluate(&cx.setup, &state.soil, &state.u, &state.u_committed, it.fallbacks.soil_tangent);
     let (residual, reference) = out_of_balance(&cx.elements, &soil_trial, &rows, &taus, state, dofs);
     cx.system.stats.residual_seconds += t.elapsed().as_secs_f64();
-    if !residual.is_finite() {
-        return Err(IncrementError::NotConverged {
-            iterations: iteration,
-            residual,
-            reference,
-            unsettled: Vec::new(),
-            yielding: soil_trial.yielding,
+    if !residual.is_finite() || !reference.is_finite() {
+        let iterate = Iterate { mesh: &cx.model.mesh, dofs, state, soil_trial: Some(&soil_trial), springs: &springs };
+        let first = non_finite::in_iterate(&iterate).unwrap_or(non_finite::NonFinite {
+            value: if residual.is_finite() { reference } else { residual },
+            location:
+                "the out-of-balance force (every displacement, load, soil force and interface stress was finite: \
+                       their products overflowed)"
+                    .into(),
         });
+        return Err(IncrementError::NonFinite { iteration, first });
     }
+    it.last_residual = Some((residual, reference));
     let measures = Measures {
         residual,
         reference,

@@ -10,7 +10,8 @@
 //! - `stage`: a stage's set-up, its increments with cutback, and the commit of each step;
 //! - `equilibrium`: one increment's iterations (assemble → solve → update → converged?);
 //! - `convergence`: when an increment has converged, and how it failed; `singular`: the recoveries
-//!   from a singular matrix, or the diagnosis of what is unconstrained;
+//!   from a singular matrix, or the diagnosis of what is unconstrained; `non_finite`: where a NaN
+//!   or an infinity first appeared;
 //! - `springs`: the interface springs' shear laws at an iterate; `soil`: the soil through a run;
 //! - `strength_reduction`: the factor-of-safety search; `results`: what a converged step produced.
 //!
@@ -35,6 +36,7 @@ mod context;
 mod convergence;
 mod equilibrium;
 mod loads;
+mod non_finite;
 mod options;
 pub mod results;
 mod singular;

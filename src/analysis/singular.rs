@@ -104,11 +104,20 @@ pub fn recover(
         }
         return Ok(Recovered::RowsSetAside(changes));
     }
-    Err(IncrementError::Solve(SolveError::Singular {
-        backend: cx.system.backend().name(),
-        unknowns: diagnose(cx.model, &state.interfaces, dofs, singular.triplets, singular.equations),
-    }))
+    let backend = cx.system.backend().name();
+    Err(IncrementError::Solve(diagnose(
+        backend,
+        cx.model,
+        &state.interfaces,
+        dofs,
+        singular.triplets,
+        singular.equations,
+    )))
 }
+
+/// Beyond this ratio of the largest to the smallest stiffness on the diagonal, a factorisation in
+/// double precision (16 digits) keeps too few to tell a mechanism from round-off.
+const ILL_CONDITIONED: f64 = 1e12;
 
 fn warn_once(cx: &mut Context, warning: &str) {
     let w = warning.to_string();
@@ -117,8 +126,78 @@ fn warn_once(cx: &mut Context, warning: &str) {
     }
 }
 
-/// Name what is unconstrained in a singular system.
+/// The smallest and the largest positive stiffness on the diagonal of the displacement unknowns
+/// (equation and value), and their ratio.
+pub struct StiffnessSpread {
+    pub softest: (usize, f64),
+    pub stiffest: (usize, f64),
+    pub ratio: f64,
+}
+
+impl StiffnessSpread {
+    pub fn of(triplets: &Triplets, dofs: &DofMap) -> Option<StiffnessSpread> {
+        let mut diagonal = vec![0.0f64; dofs.free_count];
+        for ((&i, &j), &v) in triplets.rows.iter().zip(&triplets.cols).zip(&triplets.values) {
+            if i == j && i < dofs.free_count {
+                diagonal[i] += v;
+            }
+        }
+        let positive = diagonal.iter().copied().enumerate().filter(|&(_, v)| v > 0.0 && v.is_finite());
+        let softest = positive.clone().min_by(|a, b| a.1.total_cmp(&b.1))?;
+        let stiffest = positive.max_by(|a, b| a.1.total_cmp(&b.1))?;
+        Some(StiffnessSpread { softest, stiffest, ratio: stiffest.1 / softest.1 })
+    }
+}
+
+/// Warn (once a run) when a matrix that was solved is ill-conditioned: its results carry round-off
+/// that the residual check may not show.
+pub fn warn_if_ill_conditioned(cx: &mut Context, dofs: &DofMap, state: &State, triplets: &Triplets) {
+    if let Some(spread) = StiffnessSpread::of(triplets, dofs).filter(|s| s.ratio > ILL_CONDITIONED) {
+        let warning = format!(
+            "the stiffness matrix is ill-conditioned: its diagonal ranges from {:.3e} at {} to {:.3e} at {} (a ratio \
+             of {:.1e}, beyond the 1e12 that double precision factorises reliably); the results carry round-off: \
+             bring the stiffnesses closer (the soil's Young's modulus against the reinforcement's EA and the \
+             interfaces' Ks, in consistent units)",
+            spread.softest.1,
+            dofs.describe(spread.softest.0, &cx.model.mesh, &state.interfaces),
+            spread.stiffest.1,
+            dofs.describe(spread.stiffest.0, &cx.model.mesh, &state.interfaces),
+            spread.ratio
+        );
+        if !cx.system.stats.warnings.iter().any(|w| w.starts_with("the stiffness matrix is ill-conditioned")) {
+            cx.system.stats.warnings.push(warning);
+        }
+    }
+}
+
+/// Name what is unconstrained in a singular system, or say that it is ill-conditioned (stiffnesses
+/// many orders of magnitude apart) rather than singular.
 fn diagnose(
+    backend: &'static str,
+    model: &Model,
+    interfaces: &[Interface],
+    dofs: &DofMap,
+    triplets: &Triplets,
+    equations: Vec<usize>,
+) -> SolveError {
+    let n = dofs.size();
+    if let Some(spread) = StiffnessSpread::of(triplets, dofs).filter(|s| s.ratio > ILL_CONDITIONED) {
+        let null_pivots = null_equations(triplets, n, equations).map_or(0, |l| l.len());
+        return SolveError::IllConditioned {
+            backend,
+            ratio: spread.ratio,
+            softest: dofs.describe(spread.softest.0, &model.mesh, interfaces),
+            softest_value: spread.softest.1,
+            stiffest: dofs.describe(spread.stiffest.0, &model.mesh, interfaces),
+            stiffest_value: spread.stiffest.1,
+            null_pivots,
+        };
+    }
+    SolveError::Singular { backend, unknowns: unconstrained(model, interfaces, dofs, triplets, equations) }
+}
+
+/// The unknowns of a singular system that are not held, by name.
+fn unconstrained(
     model: &Model,
     interfaces: &[Interface],
     dofs: &DofMap,

@@ -152,7 +152,7 @@ fn bare_mumps(n: usize, irn: &mut [i32], jcn: &mut [i32], a: &mut [f64], rhs: &[
     let mut x = rhs.to_vec();
     match linsol::native::mumps::bare_run(true, n, irn, jcn, a, &mut x) {
         0 => Ok(()),
-        code => Err(linsol::native::mumps_message(code, 0)),
+        code => Err(crate::error::SolveError::mumps(crate::error::Phase::Factorisation, code, 0).to_string()),
     }
 }
 

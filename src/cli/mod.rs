@@ -46,7 +46,7 @@ fn exit_code(e: &crate::Error) -> ExitCode {
     use crate::Error::*;
     ExitCode::from(match e {
         Read { .. } | Parse { .. } | Model(_) => exit::BAD_INPUT,
-        NotConverged { .. } => exit::NOT_CONVERGED,
+        NotConverged { .. } | NonFinite { .. } => exit::NOT_CONVERGED,
         Solve { .. } | Backend(_) => exit::SOLVER,
         Write { .. } => exit::WRITE,
     })
@@ -83,9 +83,14 @@ enum Command {
         #[arg(long)]
         trust_geo: bool,
     },
-    /// Check a model and list every problem found.
+    /// Check a model and list every problem found. It runs no other program: a mesh given as a .geo
+    /// script is read (and refused if it runs programs or writes files) but meshed only with --mesh.
     Check {
         model: PathBuf,
+        /// Mesh a .geo script with Gmsh to check the whole model on its mesh (a .geo file is a
+        /// program: one that runs programs or writes files is still refused without --trust-geo).
+        #[arg(long)]
+        mesh: bool,
         /// Mesh a .geo script even if it runs programs or writes files (see `run --trust-geo`).
         #[arg(long)]
         trust_geo: bool,
@@ -185,32 +190,7 @@ fn command_line() -> ExitCode {
             ExitCode::SUCCESS
         }
         // the same models a run would make: a series is checked run by run
-        Command::Check { model, trust_geo } => match Model::load_cases_with(&model, LoadOptions { trust_geo }) {
-            Ok(cases) => {
-                let m = &cases[0].model;
-                println!(
-                    "{}: ok — {} nodes, {} soil elements, {} bars, {} interfaces, {} stages{}",
-                    model.display(),
-                    m.mesh.nodes.len(),
-                    m.mesh.solids.len(),
-                    m.mesh.bars.len(),
-                    m.interfaces.len(),
-                    m.stages.len(),
-                    match cases.len() {
-                        1 => String::new(),
-                        n => format!("; a series of {n} runs"),
-                    }
-                );
-                for note in &m.notes {
-                    println!("note: {note}");
-                }
-                ExitCode::SUCCESS
-            }
-            Err(e) => {
-                eprintln!("error: {e}");
-                exit_code(&e)
-            }
-        },
+        Command::Check { model, mesh, trust_geo } => check(&model, mesh, LoadOptions { trust_geo }),
         Command::Run { model, solver, out, ordering, out_of_core, memory_limit, trust_geo } => {
             let options = SolverOptions { ordering, out_of_core, memory_limit_mb: memory_limit };
             match run(&model, LoadOptions { trust_geo }, solver, &options, out, Verbosity::of(&cli_flags)) {
@@ -220,6 +200,63 @@ fn command_line() -> ExitCode {
                     exit_code(&e)
                 }
             }
+        }
+    }
+}
+
+/// `geoslip check`: every problem of the model, as a run would find them before it starts; a .geo
+/// mesh is meshed only when asked (`mesh`).
+fn check(model: &std::path::Path, mesh: bool, load: LoadOptions) -> ExitCode {
+    let unmeshed = match Model::geo_script(model) {
+        Ok(Some(_)) if !mesh => Some(Model::check_without_meshing(model, load)),
+        Ok(_) => None,
+        Err(e) => Some(Err(e)),
+    };
+    match unmeshed {
+        Some(Ok(script)) => {
+            let script_note = if load.trust_geo {
+                "was not read for the commands it may run (--trust-geo)"
+            } else {
+                "runs no program and writes no file"
+            };
+            println!(
+                "{}: the file reads, and its mesh script {} {script_note}; the mesh and everything on it were not \
+                 checked: a .geo script is a program, which check runs only when asked (geoslip check --mesh)",
+                model.display(),
+                script.display()
+            );
+            return ExitCode::SUCCESS;
+        }
+        Some(Err(e)) => {
+            eprintln!("error: {e}");
+            return exit_code(&e);
+        }
+        None => {}
+    }
+    match Model::load_cases_with(model, load) {
+        Ok(cases) => {
+            let m = &cases[0].model;
+            println!(
+                "{}: ok — {} nodes, {} soil elements, {} bars, {} interfaces, {} stages{}",
+                model.display(),
+                m.mesh.nodes.len(),
+                m.mesh.solids.len(),
+                m.mesh.bars.len(),
+                m.interfaces.len(),
+                m.stages.len(),
+                match cases.len() {
+                    1 => String::new(),
+                    n => format!("; a series of {n} runs"),
+                }
+            );
+            for note in &m.notes {
+                println!("note: {note}");
+            }
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            exit_code(&e)
         }
     }
 }

@@ -179,7 +179,10 @@ impl ShearLaw {
                     ShearLaw::Hyperbolic { tan_friction, .. } if sigma_n > 0.0 => *tan_friction,
                     _ => 0.0,
                 };
-                let d_tau_d_sigma = tan_phi * ks * elastic * ks * elastic.abs() / (tf + ks * elastic.abs()).powi(2);
+                // as two factors of magnitude at most 1, so that e = 0 at τf = 0 (no adhesion, no
+                // normal stress) gives 0, not 0/0
+                let (ke, span) = (ks * elastic, tf + ks * elastic.abs());
+                let d_tau_d_sigma = tan_phi * (ke / span) * (ke.abs() / span);
                 ShearResponse { tau: state.tau, tangent: ks / (d * d), d_tau_d_sigma, state, sliding: false }
             }
             _ => {
@@ -311,6 +314,17 @@ mod tests {
         assert!((r.tau - 2.5).abs() < 1e-12 && (r.state.plastic_path - 0.075).abs() < 1e-12, "{r:?}");
         let far = law.response(&s0, 1.0, 0.0);
         assert!((far.tau - 2.0).abs() < 1e-12 && far.state.post_peak);
+    }
+
+    #[test]
+    fn hyperbolic_without_strength_at_no_slip_is_finite() {
+        // no adhesion and no normal stress: τf = 0, and at e = 0 the slope and the coupling are 0/0
+        // in the textbook form; the law must give finite numbers (τ = 0, ∂τ/∂σn = 0)
+        let law = ShearLaw::Hyperbolic { shear_stiffness: KS, cohesion: 0.0, tan_friction: 0.5 };
+        for sigma_n in [0.0, -1.0, 1e-300] {
+            let r = law.response(&ShearState::default(), 0.0, sigma_n);
+            assert!(r.tau == 0.0 && r.d_tau_d_sigma == 0.0 && r.tangent.is_finite(), "{sigma_n}: {r:?}");
+        }
     }
 
     #[test]

@@ -256,11 +256,20 @@ fn package(backend: Backend) -> &'static str {
 /// ‖A x − b‖ / ‖b‖ (or ‖A x − b‖ when b = 0).
 pub fn relative_residual(a: &CscMatrix, x: &[f64], b: &[f64]) -> f64 {
     let ax = a.mul_vec(x);
-    let r: f64 = ax.iter().zip(b).map(|(p, q)| (p - q).powi(2)).sum::<f64>().sqrt();
-    let nb: f64 = b.iter().map(|v| v * v).sum::<f64>().sqrt();
+    let r: Vec<f64> = ax.iter().zip(b).map(|(p, q)| p - q).collect();
+    let (r, nb) = (norm2(&r), norm2(b));
     if nb > 0.0 {
         r / nb
     } else {
         r
     }
+}
+
+/// ‖v‖₂ without overflow or underflow in the squares (entries scaled by the largest first).
+pub fn norm2(v: &[f64]) -> f64 {
+    let largest = v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    if largest == 0.0 || !largest.is_finite() {
+        return largest;
+    }
+    largest * v.iter().map(|x| (x / largest).powi(2)).sum::<f64>().sqrt()
 }

@@ -7,7 +7,7 @@ pub mod problems;
 mod validate;
 
 pub use crate::element::soil_state::WaterTable;
-use crate::error::{Error, ModelError};
+use crate::error::{Error, ModelError, Problem};
 use crate::interface::Interface;
 use crate::mesh::{Mesh, NodeIndex};
 // The `[analysis]` settings are checked as the file gives them: the run reads them from here.
@@ -119,9 +119,52 @@ impl Model {
     /// # Errors
     /// As [`Model::load`].
     pub fn load_with(path: &Path, options: LoadOptions) -> Result<Model, Error> {
-        let text = std::fs::read_to_string(path).map_err(|source| Error::Read { path: path.to_path_buf(), source })?;
+        let text = read_text(path)?;
         let file = parse(path, &text)?;
         Model::from_file_with(path, &file, options).map_err(Error::Model)
+    }
+
+    /// The `.geo` script a model file's mesh is made from, when it is one: `check` reads it (for the
+    /// commands it refuses) but runs Gmsh on it only when asked.
+    ///
+    /// # Errors
+    /// As [`Model::load`], for a file that cannot be read or parsed.
+    pub fn geo_script(path: &Path) -> Result<Option<PathBuf>, Error> {
+        let text = read_text(path)?;
+        let file = parse(path, &text)?;
+        Ok(file
+            .mesh
+            .as_ref()
+            .map(|m| path.parent().unwrap_or(Path::new(".")).join(&m.file))
+            .filter(|script| script.extension().is_some_and(|e| e.eq_ignore_ascii_case("geo"))))
+    }
+
+    /// Check what can be checked of a model whose mesh is a `.geo` script without running Gmsh: the
+    /// file parses, its series is sound, the script exists and does nothing refused (unless
+    /// `options.trust_geo`). Returns the script.
+    ///
+    /// # Errors
+    /// As [`Model::load`]; the refused commands of the script, or a missing script, are an
+    /// [`Error::Model`] under `mesh.file`.
+    pub fn check_without_meshing(path: &Path, options: LoadOptions) -> Result<PathBuf, Error> {
+        let text = read_text(path)?;
+        let file = parse(path, &text)?;
+        let mut problems = match &file.series {
+            Some(series) => series_problems(&file, series),
+            None => problems::Problems::default(),
+        };
+        let script = Model::geo_script(path)?.unwrap_or_default();
+        if !script.is_file() {
+            problems.push("mesh.file", None, format!("{}: no such file", script.display()));
+        } else if !options.trust_geo {
+            if let Err(e) = crate::gmsh::refuse_script_actions(&script) {
+                problems.push("mesh.file", None, e.to_string());
+            }
+        }
+        if !problems.is_empty() {
+            return Err(Error::Model(ModelError { file: path.to_path_buf(), problems: problems.into_vec() }));
+        }
+        Ok(script)
     }
 
     /// Read a model file and make one checked model per run: the model itself, or one per value of
@@ -139,7 +182,7 @@ impl Model {
     /// # Errors
     /// As [`Model::load_cases`].
     pub fn load_cases_with(path: &Path, options: LoadOptions) -> Result<Vec<Case>, Error> {
-        let text = std::fs::read_to_string(path).map_err(|source| Error::Read { path: path.to_path_buf(), source })?;
+        let text = read_text(path)?;
         let file = parse(path, &text)?;
         let Some(series) = file.series.clone() else {
             return Ok(vec![Case {
@@ -149,40 +192,7 @@ impl Model {
                 model: Model::from_file_with(path, &file, options)?,
             }]);
         };
-        let mut problems = problems::Problems::default();
-        let entity = format!("load \"{}\"", series.load);
-        let mut found = 0;
-        for stage in &file.stages {
-            for load in &stage.loads {
-                if let file::LoadSpec::EdgeTraction { name: Some(n), .. } = load {
-                    found += usize::from(*n == series.load);
-                }
-            }
-        }
-        if found != 1 {
-            problems.push(
-                "series.load",
-                &entity,
-                format!(
-                    "a series varies the pressure of exactly one edge-traction load with this `name`; found {found}"
-                ),
-            );
-        }
-        if series.values.is_empty() {
-            problems.push("series.values", &entity, "give at least one value");
-        }
-        if series.values.len() > validate::MAX_SERIES_VALUES {
-            problems.push(
-                "series.values",
-                &entity,
-                format!("at most {} runs in a series, found {}", validate::MAX_SERIES_VALUES, series.values.len()),
-            );
-        }
-        for (k, v) in series.values.iter().enumerate() {
-            if !v.is_finite() {
-                problems.push(format!("series.values[{k}]"), &entity, format!("must be a finite number, found {v}"));
-            }
-        }
+        let problems = series_problems(&file, &series);
         if !problems.is_empty() {
             return Err(Error::Model(ModelError { file: path.to_path_buf(), problems: problems.into_vec() }));
         }
@@ -326,12 +336,82 @@ impl Model {
     }
 }
 
+/// What is wrong with a model file's `[series]`, before any of its runs is made.
+fn series_problems(file: &ModelFile, series: &file::Series) -> problems::Problems {
+    let mut problems = problems::Problems::default();
+    let entity = format!("load \"{}\"", series.load);
+    let mut found = 0;
+    for stage in &file.stages {
+        for load in &stage.loads {
+            if let file::LoadSpec::EdgeTraction { name: Some(n), .. } = load {
+                found += usize::from(*n == series.load);
+            }
+        }
+    }
+    if found != 1 {
+        problems.push(
+            "series.load",
+            &entity,
+            format!("a series varies the pressure of exactly one edge-traction load with this `name`; found {found}"),
+        );
+    }
+    if series.values.is_empty() {
+        problems.push("series.values", &entity, "give at least one value");
+    }
+    if series.values.len() > validate::MAX_SERIES_VALUES {
+        problems.push(
+            "series.values",
+            &entity,
+            format!("at most {} runs in a series, found {}", validate::MAX_SERIES_VALUES, series.values.len()),
+        );
+    }
+    for (k, v) in series.values.iter().enumerate() {
+        if !v.is_finite() {
+            problems.push(format!("series.values[{k}]"), &entity, format!("must be a finite number, found {v}"));
+        }
+    }
+    problems
+}
+
+/// A model file's text. A file that is not UTF-8 is named with the line, column and byte of its
+/// first invalid byte.
+///
+/// # Errors
+/// [`Error::Read`] when it cannot be read; [`Error::Parse`] when it is not UTF-8.
+pub fn read_text(path: &Path) -> Result<String, Error> {
+    let bytes = std::fs::read(path).map_err(|source| Error::Read { path: path.to_path_buf(), source })?;
+    String::from_utf8(bytes).map_err(|e| {
+        let at = e.utf8_error().valid_up_to();
+        let before = &e.as_bytes()[..at];
+        let line = before.iter().filter(|&&b| b == b'\n').count() + 1;
+        let column = std::str::from_utf8(&before[before.iter().rposition(|&b| b == b'\n').map_or(0, |i| i + 1)..])
+            .map_or(0, |l| l.chars().count())
+            + 1;
+        Error::Parse {
+            path: path.to_path_buf(),
+            message: format!(
+                "line {line}, column {column} (byte {at}): byte 0x{:02x} is not UTF-8; a model file is UTF-8 text",
+                e.as_bytes()[at]
+            ),
+        }
+    })
+}
+
 /// Parse a model file's text, by extension.
 ///
 /// # Errors
 /// [`Error::Parse`] with the field path (`materials.soil.clay`) and the parser's message, which
 /// carries the line and column.
 pub fn parse(path: &Path, text: &str) -> Result<ModelFile, Error> {
+    let file = parse_schema(path, text)?;
+    let huge = huge_numbers(path, text);
+    if !huge.is_empty() {
+        return Err(Error::Model(ModelError { file: path.to_path_buf(), problems: huge }));
+    }
+    Ok(file)
+}
+
+fn parse_schema(path: &Path, text: &str) -> Result<ModelFile, Error> {
     let fail = |field: String, message: String| {
         let message = if field.is_empty() || field == "." { message } else { format!("{field}: {message}") };
         Error::Parse { path: path.to_path_buf(), message }
@@ -339,16 +419,114 @@ pub fn parse(path: &Path, text: &str) -> Result<ModelFile, Error> {
     let is_json = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("json"));
     if is_json {
         let mut de = serde_json::Deserializer::from_str(text);
-        serde_path_to_error::deserialize(&mut de).map_err(|e| fail(e.path().to_string(), e.into_inner().to_string()))
+        serde_path_to_error::deserialize(&mut de)
+            .map_err(|e| fail(e.path().to_string(), shorten_lines(&e.into_inner().to_string())))
     } else {
-        let de = toml::Deserializer::parse(text).map_err(|e| fail(String::new(), e.to_string()))?;
+        let de = toml::Deserializer::parse(text).map_err(|e| fail(String::new(), shorten_lines(&e.to_string())))?;
         serde_path_to_error::deserialize(de).map_err(|e| {
             let field = e.path().to_string();
             let mut inner = e.into_inner();
             inner.set_input(Some(text)); // so that the message shows the line and column
-            fail(field, inner.to_string())
+            fail(field, shorten_lines(&inner.to_string()))
         })
     }
+}
+
+/// The largest magnitude a number in a model file may have. No quantity in any unit system a
+/// model uses comes near it, and the squares and sums of numbers beyond it overflow double
+/// precision (1e308), which would turn a run's arithmetic into infinities.
+pub const MAX_MAGNITUDE: f64 = 1e100;
+
+/// Numbers in the file beyond ±[`MAX_MAGNITUDE`], by field.
+fn huge_numbers(path: &Path, text: &str) -> Vec<Problem> {
+    let is_json = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("json"));
+    let mut found = Vec::new();
+    if is_json {
+        if let Ok(v) = serde_json::from_str::<serde_json::Value>(text) {
+            walk_json(&v, String::new(), &mut found);
+        }
+    } else if let Ok(v) = text.parse::<toml::Table>() {
+        walk_toml(&toml::Value::Table(v), String::new(), &mut found);
+    }
+    found
+        .into_iter()
+        .map(|(field, x)| Problem {
+            field,
+            entity: None,
+            message: format!(
+                "{x:e} is beyond the ±{MAX_MAGNITUDE:e} a model's numbers may have (the arithmetic of a run would \
+                 overflow): check the value and its units"
+            ),
+        })
+        .collect()
+}
+
+fn child(path: &str, key: &str) -> String {
+    if path.is_empty() {
+        key.to_string()
+    } else {
+        format!("{path}.{key}")
+    }
+}
+
+fn walk_toml(v: &toml::Value, path: String, found: &mut Vec<(String, f64)>) {
+    match v {
+        toml::Value::Float(x) if x.abs() > MAX_MAGNITUDE && x.is_finite() => found.push((path, *x)),
+        toml::Value::Array(a) => a.iter().enumerate().for_each(|(i, x)| walk_toml(x, format!("{path}[{i}]"), found)),
+        toml::Value::Table(t) => t.iter().for_each(|(k, x)| walk_toml(x, child(&path, k), found)),
+        _ => {}
+    }
+}
+
+fn walk_json(v: &serde_json::Value, path: String, found: &mut Vec<(String, f64)>) {
+    match v {
+        serde_json::Value::Number(n) => {
+            if let Some(x) = n.as_f64().filter(|x| x.abs() > MAX_MAGNITUDE && x.is_finite()) {
+                found.push((path, x));
+            }
+        }
+        serde_json::Value::Array(a) => {
+            a.iter().enumerate().for_each(|(i, x)| walk_json(x, format!("{path}[{i}]"), found))
+        }
+        serde_json::Value::Object(o) => o.iter().for_each(|(k, x)| walk_json(x, child(&path, k), found)),
+        _ => {}
+    }
+}
+
+/// A parser's message with every long line cut to a window around the column it points at (the
+/// `^` under the snippet), or to its first 200 characters: a model line can be megabytes long (an
+/// inline mesh on one line), and the message only needs to show where.
+fn shorten_lines(message: &str) -> String {
+    const WIDTH: usize = 200;
+    let lines: Vec<Vec<char>> = message.lines().map(|l| l.chars().collect()).collect();
+    // the caret line of a snippet: "  |      ^"
+    let caret = lines.iter().find_map(|l| {
+        let bar = l.iter().position(|&c| c == '|')?;
+        let rest = &l[bar + 1..];
+        (rest.iter().all(|&c| c == ' ' || c == '^') && rest.contains(&'^'))
+            .then(|| (bar + 2, l.iter().position(|&c| c == '^').unwrap_or(0)))
+    });
+    lines
+        .iter()
+        .map(|l| {
+            if l.len() <= WIDTH {
+                return l.iter().collect::<String>();
+            }
+            let (prefix, start) = match caret {
+                Some((prefix, at)) if l.len() > prefix && l[..prefix].contains(&'|') => {
+                    (prefix, at.saturating_sub(WIDTH / 2).max(prefix))
+                }
+                _ => (0, 0),
+            };
+            let end = (start + WIDTH).min(l.len());
+            let head: String = l[..prefix].iter().collect();
+            let body: String = l[start..end].iter().collect();
+            let before = if start > prefix { "…" } else { "" };
+            let after = if end < l.len() { format!(" … ({} more characters)", l.len() - end) } else { String::new() };
+            format!("{head}{before}{body}{after}")
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
 }
 
 /// Unit strings for column headers.

@@ -12,9 +12,8 @@
 //! INFOG(1) = −8 or −9 ICNTL(14) is doubled and only the factorisation is redone, a bounded number of
 //! times.
 
-use crate::error::SolveError;
+use crate::error::{Phase, SolveError};
 use crate::linsol::csc::CscMatrix;
-use crate::linsol::native::mumps_message;
 use crate::linsol::{available_memory_mb, resident_memory_mb, Backend, Failure, LinearSolver, Ordering, SolverOptions};
 use geoslip_sys::mumps as ffi;
 use std::ffi::CStr;
@@ -63,6 +62,8 @@ pub struct Mumps {
     workspace_percent: i32,
     /// CNTL(1), the relative threshold for numerical pivoting (None: MUMPS's default, 0.01).
     pivot_threshold: Option<f64>,
+    /// How many times a factorisation may be retried with a doubled ICNTL(14).
+    workspace_retries: usize,
     pub info: FactorInfo,
 }
 
@@ -85,10 +86,8 @@ impl Mumps {
     /// # Errors
     /// A backend error with MUMPS's message, or a version mismatch.
     pub fn new(symmetric: bool, options: &SolverOptions) -> Result<Mumps, SolveError> {
-        let (id, instance) = start_instance(symmetric).map_err(|(code, info2)| SolveError::Backend {
-            backend: "mumps",
-            message: format!("initialisation: {}", mumps_message(code, info2)),
-        })?;
+        let (id, instance) =
+            start_instance(symmetric).map_err(|(code, info2)| SolveError::mumps(Phase::Initialisation, code, info2))?;
         let mut mumps = Mumps {
             id,
             instance,
@@ -103,6 +102,7 @@ impl Mumps {
             factorized: false,
             workspace_percent: 20,
             pivot_threshold: None,
+            workspace_retries: WORKSPACE_RETRIES,
             info: FactorInfo::default(),
         };
         // Silence MUMPS's own printing from now on (JOB = −1 resets the controls to its defaults).
@@ -131,6 +131,11 @@ impl Mumps {
     /// Force ICNTL(14) (percentage of workspace increase), to exercise the retry path.
     pub fn set_workspace_percent(&mut self, percent: i32) {
         self.workspace_percent = percent;
+    }
+
+    /// Limit the retries with a doubled ICNTL(14) (to exercise the error past them).
+    pub fn set_workspace_retries(&mut self, retries: usize) {
+        self.workspace_retries = retries;
     }
 
     /// Set CNTL(1), the relative threshold for numerical pivoting: larger is more stable and delays
@@ -264,7 +269,7 @@ impl LinearSolver for Mumps {
         let code = infog(id, 1);
         if code < 0 {
             self.analysed = false;
-            return Err(backend_error(format!("analysis: {}", mumps_message(code, infog(id, 2) as i64))));
+            return Err(Failure::Other(SolveError::mumps(Phase::Analysis, code, infog(id, 2) as i64)));
         }
         self.analysed = true;
         self.factorized = false;
@@ -288,7 +293,7 @@ impl LinearSolver for Mumps {
             id.job = 2;
             call(id, self.instance);
             let code = infog(id, 1);
-            if (code == -8 || code == -9) && retries < WORKSPACE_RETRIES {
+            if (code == -8 || code == -9) && retries < self.workspace_retries {
                 // Not enough workspace: double ICNTL(14) and redo the factorisation only.
                 self.workspace_percent = self.workspace_percent.max(1).saturating_mul(2);
                 retries += 1;
@@ -296,11 +301,13 @@ impl LinearSolver for Mumps {
             }
             self.factorized = false;
             if code < 0 {
-                return Err(backend_error(format!(
-                    "factorisation: {}{}",
-                    mumps_message(code, infog(id, 2) as i64),
-                    if retries > 0 { format!(" after {retries} workspace increases") } else { String::new() }
-                )));
+                return Err(Failure::Other(SolveError::Mumps {
+                    phase: Phase::Factorisation,
+                    code: crate::error::MumpsCode::from_code(code),
+                    infog1: code,
+                    infog2: infog(id, 2) as i64,
+                    workspace_retries: retries,
+                }));
             }
             let null_pivots = infog(id, 28);
             if null_pivots > 0 {
@@ -340,7 +347,7 @@ impl LinearSolver for Mumps {
         id.rhs = std::ptr::null_mut();
         let code = infog(id, 1);
         if code < 0 {
-            return Err(backend_error(format!("solution: {}", mumps_message(code, infog(id, 2) as i64))));
+            return Err(Failure::Other(SolveError::mumps(Phase::Solution, code, infog(id, 2) as i64)));
         }
         Ok(x)
     }
@@ -468,6 +475,28 @@ mod tests {
             for (p, q) in x.iter().zip(&x_ref) {
                 assert!((p - q).abs() < 1e-10 * (1.0 + q.abs()));
             }
+        }
+    }
+
+    #[test]
+    fn a_workspace_overflow_past_the_retries_is_a_typed_error() {
+        // as above, with no retry allowed: MUMPS's own INFOG(1) = −8 or −9 comes back typed
+        let (a, _) = saddle_chain(3000, 0.0);
+        let mut mumps = Mumps::new(true, &SolverOptions::default()).unwrap();
+        mumps.set_workspace_percent(0);
+        mumps.set_pivot_threshold(0.5);
+        mumps.set_workspace_retries(0);
+        mumps.analyse(&a).unwrap();
+        match mumps.factorize(&a) {
+            Err(Failure::Other(e @ SolveError::Mumps { phase: Phase::Factorisation, infog1, code, .. })) => {
+                assert!(infog1 == -8 || infog1 == -9, "{e}");
+                assert!(matches!(
+                    code,
+                    crate::error::MumpsCode::IntegerWorkspaceTooSmall | crate::error::MumpsCode::RealWorkspaceTooSmall
+                ));
+                assert!(e.to_string().contains("ICNTL(14)"), "{e}");
+            }
+            other => panic!("expected MUMPS's workspace error, got {other:?}"),
         }
     }
 

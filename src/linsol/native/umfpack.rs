@@ -6,9 +6,8 @@
 //! precomputed triplet → CSC map), so nothing is re-sorted here. A singular-matrix warning is an
 //! error.
 
-use crate::error::SolveError;
+use crate::error::{Phase, SolveError};
 use crate::linsol::csc::CscMatrix;
-use crate::linsol::native::umfpack_message;
 use crate::linsol::{Backend, Failure, LinearSolver};
 use geoslip_sys::umfpack as ffi;
 use std::os::raw::c_void;
@@ -104,7 +103,7 @@ impl LinearSolver for Umfpack {
         };
         if status != 0 || self.symbolic.is_null() {
             self.symbolic = std::ptr::null_mut();
-            return Err(backend_error(format!("symbolic analysis: {}", umfpack_message(status))));
+            return Err(Failure::Other(SolveError::umfpack(Phase::Analysis, status)));
         }
         Ok(())
     }
@@ -133,7 +132,7 @@ impl LinearSolver for Umfpack {
         }
         if status < 0 || self.numeric.is_null() {
             self.numeric = std::ptr::null_mut();
-            return Err(backend_error(format!("numeric factorisation: {}", umfpack_message(status))));
+            return Err(Failure::Other(SolveError::umfpack(Phase::Factorisation, status)));
         }
         Ok(())
     }
@@ -158,7 +157,7 @@ impl LinearSolver for Umfpack {
             )
         };
         if status != 0 {
-            return Err(backend_error(format!("solution: {}", umfpack_message(status))));
+            return Err(Failure::Other(SolveError::umfpack(Phase::Solution, status)));
         }
         Ok(x)
     }
@@ -177,3 +176,23 @@ impl Drop for Umfpack {
 
 // SAFETY: the objects are only reached through `&mut self`; UMFPACK keeps no global state.
 unsafe impl Send for Umfpack {}
+
+#[cfg(test)]
+mod tests {
+    //! UMFPACK's own statuses, as UMFPACK returns them, come back typed.
+    use super::*;
+    use crate::error::UmfpackStatus;
+    use crate::linsol::csc::{PatternCache, Triplets};
+
+    #[test]
+    fn an_empty_matrix_is_umfpacks_n_nonpositive_status() {
+        let a = PatternCache::default().assemble(0, &Triplets::default()).0;
+        match Umfpack::default().analyse(&a) {
+            Err(Failure::Other(e @ SolveError::Umfpack { phase: Phase::Analysis, status: -6, .. })) => {
+                assert!(matches!(e, SolveError::Umfpack { code: UmfpackStatus::OrderNotPositive, .. }));
+                assert!(e.to_string().contains("UMFPACK_ERROR_n_nonpositive"), "{e}");
+            }
+            other => panic!("expected UMFPACK's status -6, got {:?}", other.err()),
+        }
+    }
+}

@@ -5,6 +5,9 @@ use crate::interface::ShearLaw;
 use crate::model::file::*;
 use crate::model::problems::Problems;
 
+/// The largest Poisson's ratio a soil may have (bulk / shear modulus about 500).
+pub const MAX_POISSONS_RATIO: f64 = 0.499;
+
 /// The soil and reinforcement materials.
 pub(super) fn materials(d: &mut Draft, file: &ModelFile, p: &mut Problems) {
     d.soils = file.materials.soil.iter().map(|(k, v)| (k.clone(), v.clone())).collect();
@@ -16,6 +19,18 @@ pub(super) fn materials(d: &mut Draft, file: &ModelFile, p: &mut Problems) {
         }
         if !(m.poissons_ratio.is_finite() && (0.0..0.5).contains(&m.poissons_ratio)) {
             p.push(f("poissons_ratio"), &entity, format!("must be in [0, 0.5), found {}", m.poissons_ratio));
+        } else if m.poissons_ratio > MAX_POISSONS_RATIO {
+            let nu = m.poissons_ratio;
+            p.push(
+                f("poissons_ratio"),
+                &entity,
+                format!(
+                    "{nu} is too close to 0.5: the bulk modulus would be {:.1e} times the shear modulus, which locks \
+                     the displacement elements and leaves the stiffness matrix too ill-conditioned to solve; geoslip \
+                     takes at most {MAX_POISSONS_RATIO} (an undrained analysis is usually run at 0.495)",
+                    2.0 * (1.0 + nu) / (3.0 * (1.0 - 2.0 * nu))
+                ),
+            );
         }
         if !(m.unit_weight.is_finite() && m.unit_weight >= 0.0) {
             p.push(f("unit_weight"), &entity, format!("must be zero or positive, found {}", m.unit_weight));
