@@ -128,7 +128,27 @@ impl GmshMesh {
     /// # Errors
     /// A [`GmshError`] naming the file, and the line where the reader stopped when it knows it.
     pub fn read(path: &Path) -> Result<GmshMesh, GmshError> {
+        GmshMesh::read_within(path, None)
+    }
+
+    /// [`GmshMesh::read`], refusing before it reads a file, or parses a mesh, that the model built
+    /// on it would not fit in `limit_mb` of memory (see [`check_declared_size`]).
+    ///
+    /// # Errors
+    /// As [`GmshMesh::read`]; a mesh too large for the limit, with its size and the limit.
+    pub fn read_within(path: &Path, limit_mb: Option<f64>) -> Result<GmshMesh, GmshError> {
+        if let (Some(limit), Ok(meta)) = (limit_mb, std::fs::metadata(path)) {
+            let mb = meta.len() as f64 / (1024.0 * 1024.0);
+            if mb > limit {
+                return Err(err(
+                    path,
+                    None,
+                    format!("the mesh file is {mb:.1} MB and this run may use {limit:.1} MB in all (--memory-limit, or what the machine has available)"),
+                ));
+            }
+        }
         let bytes = std::fs::read(path).map_err(|e| err(path, None, format!("cannot read the mesh file: {e}")))?;
+        check_declared_size(path, &bytes, limit_mb)?;
         GmshMesh::from_bytes(path, &bytes)
     }
 
@@ -389,6 +409,58 @@ pub struct GeneratedMesh {
 /// # Errors
 /// A [`GmshError`] when the script is refused, or when `gmsh` is not installed, fails, or writes a
 /// mesh that cannot be read.
+/// The node and element counts a `.msh` file declares in its section headers, read without parsing
+/// it: ASCII 2.2 and 4.1 give both, binary 4.1 the nodes (the elements then taken as many).
+pub fn declared_counts(bytes: &[u8]) -> Option<(usize, usize)> {
+    let binary = section_start(bytes, b"$MeshFormat\n")
+        .and_then(|at| bytes[at..].split(|&b| b == b'\n').next())
+        .and_then(|line| std::str::from_utf8(line).ok())
+        .is_some_and(|line| line.split_whitespace().nth(1) == Some("1"));
+    let v41 = section_start(bytes, b"$MeshFormat\n")
+        .and_then(|at| bytes[at..].split(|&b| b == b'\n').next())
+        .is_some_and(|line| line.starts_with(b"4"));
+    let ascii_count = |section: &[u8]| -> Option<usize> {
+        let at = section_start(bytes, section)?;
+        let line = std::str::from_utf8(bytes[at..].split(|&b| b == b'\n').next()?).ok()?;
+        let fields: Vec<&str> = line.split_whitespace().collect();
+        // 4.1: numEntityBlocks numX minTag maxTag; 2.2: numX
+        fields.get(usize::from(v41)).and_then(|f| f.parse().ok())
+    };
+    if binary {
+        let at = section_start(bytes, b"$Nodes\n")?;
+        let n = u64::from_le_bytes(bytes.get(at + 8..at + 16)?.try_into().ok()?) as usize;
+        return Some((n, n));
+    }
+    Some((ascii_count(b"$Nodes\n")?, ascii_count(b"$Elements\n").unwrap_or(0)))
+}
+
+/// Where the line after a section header starts.
+fn section_start(bytes: &[u8], header: &[u8]) -> Option<usize> {
+    bytes.windows(header.len()).position(|w| w == header).map(|p| p + header.len())
+}
+
+/// Refuse a mesh whose declared size would not fit: the model built on it (as if every element
+/// were a quad4) and the file's own parse, against `limit_mb`.
+///
+/// # Errors
+/// The counts, the estimate and the limit.
+pub fn check_declared_size(path: &Path, bytes: &[u8], limit_mb: Option<f64>) -> Result<(), GmshError> {
+    let (Some(limit), Some((nodes, elements))) = (limit_mb, declared_counts(bytes)) else { return Ok(()) };
+    let needed = crate::mesh::memory_estimate_mb(nodes, 64.0 * elements as f64) + 2.0 * bytes.len() as f64 / 1048576.0;
+    if needed > limit {
+        return Err(err(
+            path,
+            None,
+            format!(
+                "the mesh has {nodes} nodes and {elements} elements: a model that size needs about {needed:.1} MB and \
+                 this run may use {limit:.1} MB in all (--memory-limit, or what the machine has available); coarsen \
+                 the mesh or use a machine with more memory"
+            ),
+        ));
+    }
+    Ok(())
+}
+
 /// Refuse a `.geo` script that runs programs or touches files (see `geo_script`).
 ///
 /// # Errors
@@ -409,7 +481,11 @@ pub fn refuse_script_actions(geometry: &Path) -> Result<(), GmshError> {
     ))
 }
 
-pub fn mesh_geometry(geometry: &Path, trust_script: bool) -> Result<(GmshMesh, GeneratedMesh), GmshError> {
+pub fn mesh_geometry(
+    geometry: &Path,
+    trust_script: bool,
+    limit_mb: Option<f64>,
+) -> Result<(GmshMesh, GeneratedMesh), GmshError> {
     if !trust_script {
         refuse_script_actions(geometry)?;
     }
@@ -444,6 +520,7 @@ pub fn mesh_geometry(geometry: &Path, trust_script: bool) -> Result<(GmshMesh, G
         return Err(err(geometry, None, format!("gmsh could not mesh the geometry:\n    {}", tail.join("\n    "))));
     }
     let bytes = std::fs::read(&out).map_err(|e| err(geometry, None, format!("cannot read gmsh's output: {e}")))?;
+    check_declared_size(geometry, &bytes, limit_mb)?;
     let mut mesh = GmshMesh::from_bytes(&out, &bytes)?;
     mesh.path = geometry.to_path_buf();
     Ok((mesh, GeneratedMesh { geometry: geometry.to_path_buf(), gmsh_version: version_text, msh: bytes }))

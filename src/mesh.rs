@@ -197,3 +197,12 @@ impl Mesh {
         }
     }
 }
+
+/// Memory a model of `nodes` nodes whose soil element matrices hold `element_matrix_entries`
+/// entries in all takes, MB, before the solver's own: about 70 bytes per entry (the matrices, an
+/// iteration's triplets, the triplet-to-CSC refill map and the CSC matrix with the copy kept to
+/// detect unchanged values) and 200 per node, calibrated against `geoslip bench`'s "model and
+/// assembly only" rows (docs/performance.md).
+pub fn memory_estimate_mb(nodes: usize, element_matrix_entries: f64) -> f64 {
+    (70.0 * element_matrix_entries + 200.0 * nodes as f64) / (1024.0 * 1024.0)
+}

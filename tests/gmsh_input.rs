@@ -115,6 +115,17 @@ fn formats_22_and_binary_41_read_as_the_same_model() {
         }
         assert_eq!(m.node_sets.keys().collect::<Vec<_>>(), reference.node_sets.keys().collect::<Vec<_>>(), "{name}");
     }
+    // the counts the section headers declare (read before a file is parsed, for the memory limit)
+    // are the file's: nodes in every format, elements in the ASCII ones
+    for (name, _) in &variants {
+        let bytes = std::fs::read(dir.path().join(name)).unwrap();
+        let parsed = GmshMesh::from_bytes(Path::new(name), &bytes).unwrap();
+        let (nodes, elements) = geoslip::gmsh::declared_counts(&bytes).expect(name);
+        assert_eq!(nodes, parsed.nodes.len(), "{name}");
+        if !name.starts_with("binary") {
+            assert_eq!(elements, parsed.elements.len(), "{name}");
+        }
+    }
 }
 
 #[test]

@@ -107,3 +107,22 @@ fn out_of_core_gives_the_in_core_answers() {
         }
     }
 }
+
+#[test]
+fn a_mesh_too_large_for_the_limit_is_refused_before_it_is_read() {
+    // the landfill slope's .msh declares 1551 nodes and 3204 elements in its section headers; at
+    // 64 matrix entries an element (a quad4's) and 70 bytes an entry, the model needs about 14 MB
+    let out = tempfile::tempdir().unwrap();
+    let run = geoslip()
+        .args(["run", "-q", "--memory-limit", "5", "--out"])
+        .arg(out.path())
+        .arg(example("landfill-slope/landfill-slope.toml"))
+        .output()
+        .unwrap();
+    let e = String::from_utf8_lossy(&run.stderr);
+    assert_eq!(run.status.code(), Some(2), "{e}");
+    assert!(e.contains("landfill-slope.msh: the mesh has 1551 nodes and 3204 elements"), "{e}");
+    assert!(e.contains("this run may use 5.0 MB"), "{e}");
+    // nothing of a run was written: it stopped before the model was built
+    assert!(!out.path().join("summary.json").exists());
+}

@@ -124,7 +124,7 @@ fn check_memory(model: &Model, options: &RunOptions) -> Result<(), SolveError> {
 /// (docs/performance.md).
 pub fn model_memory_estimate_mb(model: &Model) -> f64 {
     let entries: f64 = model.mesh.solids.iter().map(|s| (2 * s.nodes.len()).pow(2) as f64).sum();
-    (70.0 * entries + 200.0 * model.mesh.nodes.len() as f64) / (1024.0 * 1024.0)
+    crate::mesh::memory_estimate_mb(model.mesh.nodes.len(), entries)
 }
 
 /// Nodes that belong to no soil element (reinforcement nodes): their transverse DOF has no

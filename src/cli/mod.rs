@@ -190,10 +190,13 @@ fn command_line() -> ExitCode {
             ExitCode::SUCCESS
         }
         // the same models a run would make: a series is checked run by run
-        Command::Check { model, mesh, trust_geo } => check(&model, mesh, LoadOptions { trust_geo }),
+        Command::Check { model, mesh, trust_geo } => {
+            check(&model, mesh, LoadOptions { trust_geo, ..LoadOptions::default() })
+        }
         Command::Run { model, solver, out, ordering, out_of_core, memory_limit, trust_geo } => {
             let options = SolverOptions { ordering, out_of_core, memory_limit_mb: memory_limit };
-            match run(&model, LoadOptions { trust_geo }, solver, &options, out, Verbosity::of(&cli_flags)) {
+            let load = LoadOptions { trust_geo, memory_limit_mb: memory_limit };
+            match run(&model, load, solver, &options, out, Verbosity::of(&cli_flags)) {
                 Ok(()) => ExitCode::SUCCESS,
                 Err(e) => {
                     eprintln!("error: {e}");

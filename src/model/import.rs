@@ -12,6 +12,7 @@
 
 use super::file::{MeshSource, ModelFile, NodeRow, SolidElementRow, SolidKind};
 use super::problems::Problems;
+use super::LoadOptions;
 use crate::gmsh::{GeneratedMesh, GmshElement, GmshKind, GmshMesh};
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::path::{Path, PathBuf};
@@ -34,15 +35,20 @@ pub struct MeshRecord {
 
 /// Read the mesh the model names and write its parts into `file`. Problems go to `p`, under the
 /// field `mesh.…` or the interface's field, naming the mesh file.
-pub(super) fn import(source: &Path, file: &mut ModelFile, p: &mut Problems, trust_geo: bool) -> Option<MeshRecord> {
+pub(super) fn import(
+    source: &Path,
+    file: &mut ModelFile,
+    p: &mut Problems,
+    options: LoadOptions,
+) -> Option<MeshRecord> {
     let spec = file.mesh.clone()?;
     let dir = source.parent().unwrap_or(Path::new("."));
     let path = dir.join(&spec.file);
     let is_geo = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("geo"));
     let read = if is_geo {
-        crate::gmsh::mesh_geometry(&path, trust_geo).map(|(m, g)| (m, Some(g)))
+        crate::gmsh::mesh_geometry(&path, options.trust_geo, options.memory_limit()).map(|(m, g)| (m, Some(g)))
     } else {
-        GmshMesh::read(&path).map(|m| (m, None))
+        GmshMesh::read_within(&path, options.memory_limit()).map(|m| (m, None))
     };
     let (mesh, generated) = match read {
         Ok(x) => x,

@@ -102,6 +102,16 @@ pub struct LoadOptions {
     /// Mesh a `.geo` script even when it starts programs or writes files (`--trust-geo`): a
     /// `.geo` file is a program, and by default one that does either is refused.
     pub trust_geo: bool,
+    /// Memory the run may use, MB (`--memory-limit`); `None`: what the machine has available. A
+    /// mesh whose declared size would not fit is refused before it is read.
+    pub memory_limit_mb: Option<f64>,
+}
+
+impl LoadOptions {
+    /// The memory limit a mesh is held to: the one given, or what the machine has available.
+    pub fn memory_limit(&self) -> Option<f64> {
+        self.memory_limit_mb.or_else(crate::linsol::available_memory_mb)
+    }
 }
 
 impl Model {
@@ -238,7 +248,7 @@ impl Model {
         }
         let mut file = file.clone();
         let mut problems = problems::Problems::default();
-        let record = import::import(source, &mut file, &mut problems, options.trust_geo);
+        let record = import::import(source, &mut file, &mut problems, options);
         if !problems.is_empty() {
             return Err(ModelError { file: source.to_path_buf(), problems: problems.into_vec() });
         }

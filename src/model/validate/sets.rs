@@ -10,7 +10,7 @@ use std::collections::HashMap;
 
 /// Node sets and edge sets.
 pub(super) fn node_and_edge_sets(d: &mut Draft, file: &ModelFile, p: &mut Problems) {
-    let Draft { mesh, node_sets, edge_sets, .. } = d;
+    let Draft { mesh, node_sets, edge_sets, mesh_ok, .. } = d;
     for (name, ids) in &file.node_sets {
         let mut set = Vec::new();
         for (k, id) in ids.iter().enumerate() {
@@ -26,6 +26,13 @@ pub(super) fn node_and_edge_sets(d: &mut Draft, file: &ModelFile, p: &mut Proble
         node_sets.insert(name.clone(), set);
     }
     let sides = SideMap::new(mesh);
+    let built: std::collections::HashSet<u64> = mesh.solids.iter().map(|e| e.id).collect();
+    let broken_at = |edge: &[u64]| {
+        file.elements
+            .iter()
+            .find(|e| !*mesh_ok && !built.contains(&e.id) && edge.iter().any(|n| e.nodes.contains(n)))
+            .map(|e| e.id)
+    };
     for (name, edges) in &file.edge_sets {
         let entity = format!("edge set \"{name}\"");
         let mut list = Vec::new();
@@ -44,6 +51,19 @@ pub(super) fn node_and_edge_sets(d: &mut Draft, file: &ModelFile, p: &mut Proble
             }
             let found = sides.between(idx[0], idx[1]);
             match found.as_slice() {
+                // an element of the file at these nodes that could not be built: its own problem is
+                // the one to fix, and this edge's follows from it
+                [] if broken_at(edge).is_some() => p.push(
+                    field,
+                    &entity,
+                    format!(
+                        "nodes {} and {} are not the corners of an element side; element {} at them has a problem of \
+                         its own (above): fix that first",
+                        edge[0],
+                        edge[1],
+                        broken_at(edge).unwrap_or(0)
+                    ),
+                ),
                 [] => p.push(field, &entity, format!("nodes {} and {} are not the corners of an element side", edge[0], edge[1])),
                 [s] => {
                     let solid = &mesh.solids[s.solid];
