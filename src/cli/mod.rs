@@ -238,7 +238,13 @@ fn check(model: &std::path::Path, mesh: bool, load: LoadOptions) -> ExitCode {
     }
     match Model::load_cases_with(model, load) {
         Ok(cases) => {
-            let m = &cases[0].model;
+            let m = match cases[0].model() {
+                Ok(m) => m,
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    return exit_code(&e);
+                }
+            };
             println!(
                 "{}: ok — {} nodes, {} soil elements, {} bars, {} interfaces, {} stages{}",
                 model.display(),
@@ -278,10 +284,10 @@ fn run(
     let out = out.unwrap_or_else(|| {
         PathBuf::from("results").join(path.file_stem().map(|s| s.to_os_string()).unwrap_or_else(|| "model".into()))
     });
-    let [Case { label: None, model, .. }] = cases.as_slice() else {
+    let [case @ Case { label: None, .. }] = cases.as_slice() else {
         return run_series(path, &cases, solver, options, &out, verbosity);
     };
-    run_case(path, model, solver, options, &out, verbosity, &mut Vec::new())
+    run_case(path, &*case.model()?, solver, options, &out, verbosity, &mut Vec::new())
 }
 
 /// Each run of a series in a folder of its own, then `series.csv`, the envelope plot and the report.
@@ -312,7 +318,8 @@ fn run_series(
             println!("— run {label} —");
         }
         let mut peaks = Vec::new();
-        let error = match run_case(path, &case.model, solver, options, &out.join(&folder), verbosity, &mut peaks) {
+        let model = case.model()?;
+        let error = match run_case(path, &*model, solver, options, &out.join(&folder), verbosity, &mut peaks) {
             Ok(()) => None,
             Err(e) => {
                 let message = e.to_string();
@@ -321,12 +328,12 @@ fn run_series(
             }
         };
         if pullout.is_none() {
-            pullout = PulloutReference::of(&case.model, &peaks);
+            pullout = PulloutReference::of(&*model, &peaks);
         }
         outcomes.push(CaseOutcome { folder, label, value: case.value.unwrap_or(0.0), peaks, error });
     }
     let load = cases[0].load.clone().unwrap_or_else(|| "load".to_string());
-    let summary = series::write(out, path, &load, &cases[0].model.unit_labels(), outcomes, pullout)?;
+    let summary = series::write(out, path, &load, &cases[0].model()?.unit_labels(), outcomes, pullout)?;
     if verbosity != Verbosity::Quiet {
         if let (Some(p), Some(e)) = (&summary.pullout, &summary.envelope) {
             println!(

@@ -48,7 +48,51 @@ pub struct Case {
     pub load: Option<String>,
     /// The series value of this run.
     pub value: Option<f64>,
-    pub model: Model,
+    /// The checked model, kept for a model without a series and for a series' first run.
+    model: Option<Model>,
+    /// The file a series' runs are made from.
+    series: Option<std::sync::Arc<SeriesBase>>,
+}
+
+impl Case {
+    /// The checked model of this run: the one kept, or, for a series' later runs, made again from
+    /// the file (it was checked when the cases were made).
+    ///
+    /// # Errors
+    /// As [`Model::load`] (a `.geo` mesh is meshed again, and Gmsh may fail the second time).
+    pub fn model(&self) -> Result<std::borrow::Cow<'_, Model>, Error> {
+        match (&self.model, &self.series, &self.load, self.value) {
+            (Some(m), ..) => Ok(std::borrow::Cow::Borrowed(m)),
+            (None, Some(base), Some(load), Some(value)) => Ok(std::borrow::Cow::Owned(base.model_at(load, value)?)),
+            _ => unreachable!("a case keeps its model or can make it"),
+        }
+    }
+}
+
+/// What a series' runs are made from.
+#[derive(Debug)]
+struct SeriesBase {
+    path: PathBuf,
+    file: ModelFile,
+    options: LoadOptions,
+}
+
+impl SeriesBase {
+    /// The run of the series at `value` of the load named `load`.
+    fn model_at(&self, load: &str, value: f64) -> Result<Model, Error> {
+        let mut f = self.file.clone();
+        f.series = None;
+        for stage in &mut f.stages {
+            for spec in &mut stage.loads {
+                if let file::LoadSpec::EdgeTraction { name: Some(n), pressure, .. } = spec {
+                    if n == load {
+                        *pressure = value;
+                    }
+                }
+            }
+        }
+        Model::from_file_with(&self.path, &f, self.options).map_err(Error::Model)
+    }
 }
 
 /// A soil element side that carries a traction: element index and local side index.
@@ -199,32 +243,26 @@ impl Model {
                 label: None,
                 load: None,
                 value: None,
-                model: Model::from_file_with(path, &file, options)?,
+                model: Some(Model::from_file_with(path, &file, options)?),
+                series: None,
             }]);
         };
         let problems = series_problems(&file, &series);
         if !problems.is_empty() {
             return Err(Error::Model(ModelError { file: path.to_path_buf(), problems: problems.into_vec() }));
         }
+        // every run is made and checked here, as a run would, but only the first is kept: a series
+        // holds one model in memory at a time (`Case::model` makes the others again)
+        let base = std::sync::Arc::new(SeriesBase { path: path.to_path_buf(), file, options });
         let mut cases = Vec::new();
-        for &value in &series.values {
-            let mut f = file.clone();
-            f.series = None;
-            for stage in &mut f.stages {
-                for load in &mut stage.loads {
-                    if let file::LoadSpec::EdgeTraction { name: Some(n), pressure, .. } = load {
-                        if *n == series.load {
-                            *pressure = value;
-                        }
-                    }
-                }
-            }
-            let model = Model::from_file_with(path, &f, options)?;
+        for (k, &value) in series.values.iter().enumerate() {
+            let model = base.model_at(&series.load, value)?;
             cases.push(Case {
                 label: Some(format!("{}-{}", series.load, value)),
                 load: Some(series.load.clone()),
                 value: Some(value),
-                model,
+                model: (k == 0).then_some(model),
+                series: Some(base.clone()),
             });
         }
         Ok(cases)
