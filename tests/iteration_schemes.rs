@@ -54,3 +54,39 @@ fn schemes_agree_and_the_consistent_tangent_converges_fastest() {
         runs[1].2
     );
 }
+
+#[test]
+fn newton_factorises_symmetric_where_its_tangent_is_and_reaches_the_same_equilibrium() {
+    // With σn frozen, nothing couples τ to σn: the consistent tangent is symmetric, and every backend
+    // takes it as such (MUMPS LDLᵀ on the lower triangle). Unfrozen, the frictional interface's
+    // tangent is unsymmetric and is factorised as LU. Both reach the constant-stiffness answer.
+    use geoslip::analysis::{self, Collect, RunOptions};
+    let solve = |scheme: Scheme, frozen: bool, backend: Backend| {
+        let mut file = PullOutBox {
+            law: ShearLawSpec::Coulomb { shear_stiffness: 540.0, cohesion: 0.0, friction_angle: 30.0 },
+            surcharge: 10.0,
+            pull: 0.04,
+            steps: 8,
+            ..PullOutBox::default()
+        }
+        .model();
+        file.analysis.scheme = scheme;
+        file.analysis.freeze_normal_stress = frozen;
+        file.analysis.force_tolerance = 1e-10;
+        let model = common::model(&file, "frictional-pullout.toml");
+        let mut collect = Collect::default();
+        let options = RunOptions::for_model(&model, backend);
+        let stats = analysis::run(&model, &options, &mut collect).unwrap_or_else(|e| panic!("{e}"));
+        let head = model.node_sets["grid.head"][0];
+        (-collect.last().unwrap().reaction_vector[2 * head], stats.symmetric)
+    };
+    for backend in Backend::available() {
+        for frozen in [true, false] {
+            let (reference, reference_symmetric) = solve(Scheme::ConstantStiffness, frozen, backend);
+            assert!(reference_symmetric);
+            let (pull, symmetric) = solve(Scheme::Newton, frozen, backend);
+            assert_eq!(symmetric, frozen, "{backend:?}, frozen σn {frozen}");
+            assert!(((pull - reference) / reference).abs() < 1e-6, "{backend:?}: pull {pull} vs {reference}");
+        }
+    }
+}

@@ -45,8 +45,8 @@ impl<'a> Context<'a> {
         check_memory(model, options).map_err(at_start)?;
         let setup = SoilSetup::new(model);
         let elements = element_matrices(model, &setup);
-        let system = LinearSystem::new(options.backend, options.analysis.scheme != Scheme::Newton, &options.solver)
-            .map_err(at_start)?;
+        let system =
+            LinearSystem::new(options.backend, symmetric_tangent(model, options), &options.solver).map_err(at_start)?;
         let dof_count = 2 * model.mesh.nodes.len();
         let mut held = vec![false; dof_count];
         for &(n, d) in &model.supports {
@@ -97,6 +97,22 @@ pub fn element_matrices(model: &Model, setup: &SoilSetup) -> ElementMatrices {
         })
         .collect();
     ElementMatrices::compute(&model.mesh, &setup.elastic, &bar_materials, setup.rule)
+}
+
+/// Whether every matrix of the run is symmetric, so that the solver may factorise it as LDLᵀ (MUMPS
+/// SYM=2, on the lower triangle) rather than LU. The constant-stiffness and newton-symmetric schemes
+/// always are. Newton's consistent tangent is unsymmetric only where τ is coupled to σn (a law with
+/// friction, with σn not frozen: frozen from the first stage on, unless that stage is a
+/// strength-reduction search, which starts unfrozen) or where Mohr–Coulomb soil flows
+/// non-associatively (ψ ≠ φ, the return map's tangent).
+fn symmetric_tangent(model: &Model, options: &RunOptions) -> bool {
+    if options.analysis.scheme != Scheme::Newton {
+        return true;
+    }
+    let frozen =
+        options.analysis.freeze_normal_stress && model.stages.first().is_some_and(|s| s.strength_reduction.is_none());
+    let coupled = !frozen && model.interfaces.iter().flat_map(|i| &i.faces).any(|f| f.law.is_frictional());
+    !coupled && !model.has_non_associated_soil()
 }
 
 /// Stop before allocating anything large when the model alone would not fit.

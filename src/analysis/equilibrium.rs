@@ -191,20 +191,22 @@ fn linearise(
         it.kept_stiffness = Some((contact, stiffness));
     }
     // the consistent tangent couples each sliding point's shear to its normal multiplier
-    let coupling: Option<Vec<f64>> = (scheme == Scheme::Newton && state.frozen_sigma_n.is_none()).then(|| {
-        rows.springs
-            .iter()
-            .zip(&springs)
-            .map(|(s, r)| {
-                let p = &state.interfaces[s.interface].faces[s.face].points[s.point];
-                if matches!(p.normal_state, NormalState::Active) {
-                    r.response.d_tau_d_sigma
-                } else {
-                    0.0
-                }
-            })
-            .collect()
-    });
+    // (never on a solver that takes the matrix as symmetric: see `context::symmetric_tangent`)
+    let coupling: Option<Vec<f64>> =
+        (scheme == Scheme::Newton && state.frozen_sigma_n.is_none() && !cx.system.stats.symmetric).then(|| {
+            rows.springs
+                .iter()
+                .zip(&springs)
+                .map(|(s, r)| {
+                    let p = &state.interfaces[s.interface].faces[s.face].points[s.point];
+                    if matches!(p.normal_state, NormalState::Active) {
+                        r.response.d_tau_d_sigma
+                    } else {
+                        0.0
+                    }
+                })
+                .collect()
+        });
     let stiffness = &it.kept_stiffness.as_ref().expect("set above").1;
     let key = inputs(&cx.elements, &soil_trial, &rows, stiffness, coupling.as_deref(), dofs, state).fingerprint();
     cx.system.stats.interface_seconds += t.elapsed().as_secs_f64();

@@ -94,6 +94,19 @@ impl ShearLaw {
         }
     }
 
+    /// Whether the law's strength grows with the normal stress (some friction coefficient is not
+    /// zero): then the consistent tangent couples τ to σn, and the matrix is unsymmetric.
+    pub fn is_frictional(&self) -> bool {
+        match self {
+            ShearLaw::Tie | ShearLaw::Linear { .. } => false,
+            ShearLaw::Coulomb { tan_friction, .. } | ShearLaw::Hyperbolic { tan_friction, .. } => *tan_friction != 0.0,
+            ShearLaw::PeakResidual { tan_friction, residual_tan_friction, .. }
+            | ShearLaw::Softening { tan_friction, residual_tan_friction, .. } => {
+                *tan_friction != 0.0 || *residual_tan_friction != 0.0
+            }
+        }
+    }
+
     /// The law with its strengths divided by `factor` (c/F and tan φ/F, peak and residual alike),
     /// for the factor of safety by strength reduction. `tie` and `linear` have no strength.
     pub fn reduced(&self, factor: f64) -> ShearLaw {

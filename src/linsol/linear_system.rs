@@ -38,6 +38,9 @@ pub struct SolverStats {
     /// Diagnostics that do not stop a run (for example an inertia that differs from the number of
     /// active multipliers).
     pub warnings: Vec<String>,
+    /// The run's matrices are symmetric: MUMPS factorises them as LDLᵀ (SYM=2) instead of LU; the
+    /// other backends use LU either way.
+    pub symmetric: bool,
 }
 
 /// A solver backend with the bookkeeping that lets it skip work: a new analysis only for a new
@@ -56,7 +59,7 @@ impl LinearSystem {
             solver: super::make(backend, symmetric, options)?,
             patterns: PatternCache::default(),
             factorized: None,
-            stats: SolverStats::default(),
+            stats: SolverStats { symmetric, ..SolverStats::default() },
         })
     }
 

@@ -341,6 +341,12 @@ impl Model {
         self.soils.iter().any(|(_, m)| m.model == file::SoilModel::MohrCoulomb)
     }
 
+    /// Some Mohr–Coulomb soil flows non-associatively (ψ ≠ φ): its consistent tangent is
+    /// unsymmetric.
+    pub fn has_non_associated_soil(&self) -> bool {
+        self.soils.iter().any(|(_, m)| m.model == file::SoilModel::MohrCoulomb && m.dilatancy_angle != m.friction_angle)
+    }
+
     /// Soil elements absent at the start: those a stage activates.
     pub fn initially_absent(&self) -> Vec<bool> {
         let mut absent = vec![false; self.mesh.solids.len()];

@@ -208,8 +208,15 @@ fn run_history(r: &mut String, summary: &RunSummary) {
     let st = &summary.solver_stats;
     let _ = writeln!(
         r,
-        "\nLinear algebra: {} analyses ({:.3} s), {} factorisations ({:.3} s), {} solves ({:.3} s); largest relative residual {:.1e}.",
-        st.analyses, st.analyse_seconds, st.factorizations, st.factorize_seconds, st.solves, st.solve_seconds, st.max_relative_residual
+        "\nLinear algebra: {} analyses ({:.3} s), {} factorisations of {} matrices ({:.3} s), {} solves ({:.3} s); largest relative residual {:.1e}.",
+        st.analyses,
+        st.analyse_seconds,
+        st.factorizations,
+        if st.symmetric { "symmetric" } else { "unsymmetric" },
+        st.factorize_seconds,
+        st.solves,
+        st.solve_seconds,
+        st.max_relative_residual
     );
 
     let _ = writeln!(r, "\n## Re-associations\n");
