@@ -8,7 +8,7 @@
 
 use super::non_finite::NonFinite;
 use super::state::State;
-use crate::assembly::{internal_force, ElementMatrices, SoilView};
+use crate::assembly::{add_spring_forces, soil_and_bar_force, ElementMatrices, SoilView};
 use crate::dofs::DofMap;
 use crate::element::soil_state::SoilTrial;
 use crate::error::{Error, SolveError};
@@ -146,7 +146,9 @@ pub fn displacement_ok(
             <= settings.displacement_tolerance * increment2.sqrt().max(total2.sqrt()).max(f64::MIN_POSITIVE)
 }
 
-/// ‖out-of-balance force on the free DOFs‖ and the reference force (applied loads and reactions).
+/// ‖out-of-balance force on the free DOFs‖, the reference force (applied loads and reactions), and
+/// the elements' part of the internal force (`assembly::soil_and_bar_force`), which the next iteration's
+/// right-hand side reuses: nothing it depends on changes in between.
 pub fn out_of_balance(
     elements: &ElementMatrices,
     soil_trial: &SoilTrial,
@@ -154,10 +156,12 @@ pub fn out_of_balance(
     taus: &[f64],
     state: &State,
     dofs: &DofMap,
-) -> (f64, f64) {
+) -> (f64, f64, Vec<f64>) {
     let n_dof = state.u.len();
     let view = SoilView { field: &state.soil, trial: soil_trial };
-    let f_int = internal_force(elements, view, rows, taus, &state.bars, &state.u);
+    let element = soil_and_bar_force(elements, view, &state.bars, &state.u);
+    let mut f_int = element.clone();
+    add_spring_forces(&mut f_int, rows, taus);
     let f_c = constraint_force(rows, &state.lambda, n_dof);
     let mut r2 = 0.0;
     let mut reference2 = 0.0;
@@ -170,7 +174,7 @@ pub fn out_of_balance(
             reference2 += r * r; // reactions
         }
     }
-    (r2.sqrt(), reference2.sqrt().max(f64::MIN_POSITIVE))
+    (r2.sqrt(), reference2.sqrt().max(f64::MIN_POSITIVE), element)
 }
 
 /// Whether every active row's gap is closed (to 10⁻⁹ of the largest displacement, or of 10⁻⁶ of

@@ -17,7 +17,9 @@ use super::singular::{self, Fallbacks, Recovered, SingularMatrix};
 use super::soil;
 use super::springs::{self, SpringResult};
 use super::state::State;
-use crate::assembly::{internal_force, round_off_floor, ElementMatrices, SoilView, SystemInputs};
+use crate::assembly::{
+    add_spring_forces, round_off_floor, soil_and_bar_force, ElementMatrices, SoilView, SystemInputs,
+};
 use crate::dofs::{dof, DofMap};
 use crate::element::soil_state::{SoilTrial, Tangent};
 use crate::interface::active_set::{describe, ActiveSet, Bands, Flips};
@@ -53,6 +55,8 @@ struct Iterations {
     fallbacks: Fallbacks,
     /// The soil evaluated at the current iterate by the last convergence check.
     carried_soil: Option<SoilTrial>,
+    /// The elements' part of the internal force at the current iterate, from the same check.
+    carried_element_force: Option<Vec<f64>>,
     /// The iteration under way.
     iteration: usize,
     /// The last out-of-balance force and its reference.
@@ -99,6 +103,7 @@ pub fn equilibrium(cx: &mut Context, dofs: &DofMap, state: &mut State) -> Result
             dependent_retries: 0,
         },
         carried_soil: None,
+        carried_element_force: None,
         iteration: 0,
         last_residual: None,
     };
@@ -252,7 +257,9 @@ fn solve(
     let stiffness = &it.kept_stiffness.as_ref().expect("set by linearise").1;
     let system =
         inputs(&cx.elements, &linear.soil_trial, &linear.rows, stiffness, linear.coupling.as_deref(), dofs, state);
-    let IterationSystem { triplets, rhs, scale, active } = iteration_system(system, &linear.springs, state, !reuse);
+    let element = it.carried_element_force.take();
+    let IterationSystem { triplets, rhs, scale, active } =
+        iteration_system(system, &linear.springs, state, !reuse, element);
     cx.system.stats.assembly_seconds += t.elapsed().as_secs_f64();
     let iterate =
         Iterate { mesh: &cx.model.mesh, dofs, state, soil_trial: Some(&linear.soil_trial), springs: &linear.springs };
@@ -368,7 +375,7 @@ fn check(
     let taus: Vec<f64> = springs.iter().map(|r| r.tau).collect();
     // with the tangent the next iteration assembles (the forces do not depend on it)
     let soil_trial = soil::evaluate(&cx.setup, &state.soil, &state.u, &state.u_committed, it.fallbacks.soil_tangent);
-    let (residual, reference) = out_of_balance(&cx.elements, &soil_trial, &rows, &taus, state, dofs);
+    let (residual, reference, element_force) = out_of_balance(&cx.elements, &soil_trial, &rows, &taus, state, dofs);
     cx.system.stats.residual_seconds += t.elapsed().as_secs_f64();
     if !residual.is_finite() || !reference.is_finite() {
         let iterate = Iterate { mesh: &cx.model.mesh, dofs, state, soil_trial: Some(&soil_trial), springs: &springs };
@@ -417,6 +424,7 @@ fn check(
         });
     }
     it.carried_soil = Some(soil_trial);
+    it.carried_element_force = Some(element_force);
     Ok(None)
 }
 
@@ -449,7 +457,7 @@ fn line_search(
         let springs = springs::evaluate(&trial, rows);
         let taus: Vec<f64> = springs.iter().map(|r| r.tau).collect();
         let soil_trial = soil::evaluate(&cx.setup, &trial.soil, &trial.u, &trial.u_committed, Tangent::Elastic);
-        let (r, _) = out_of_balance(&cx.elements, &soil_trial, rows, &taus, &trial, dofs);
+        let (r, _, _) = out_of_balance(&cx.elements, &soil_trial, rows, &taus, &trial, dofs);
         if r <= r0 || step < 0.05 {
             break;
         }
@@ -470,17 +478,21 @@ pub struct IterationSystem {
 
 /// The system of one iteration from the current state: out-of-balance forces on the free DOFs, −g
 /// on active rows (no transverse motion on held rows), −λ on the rest; the matrix when asked for.
+/// `element`: the elements' part of the internal force at this state, when the convergence check
+/// already computed it.
 fn iteration_system(
     inputs: SystemInputs,
     springs: &[SpringResult],
     state: &State,
     with_matrix: bool,
+    element: Option<Vec<f64>>,
 ) -> IterationSystem {
     let SystemInputs { elements, soil, rows, dofs, scale, .. } = inputs;
     let n_dof = state.u.len();
     let gaps = rows.gaps(&state.u);
     let taus: Vec<f64> = springs.iter().map(|r| r.tau).collect();
-    let f_int = internal_force(elements, soil, rows, &taus, &state.bars, &state.u);
+    let mut f_int = element.unwrap_or_else(|| soil_and_bar_force(elements, soil, &state.bars, &state.u));
+    add_spring_forces(&mut f_int, rows, &taus);
     let f_c = constraint_force(rows, &state.lambda, n_dof);
     let mut rhs = vec![0.0; dofs.size()];
     for (d, eq) in dofs.equation.iter().enumerate() {
@@ -558,5 +570,5 @@ pub fn first_system(model: &Model) -> (usize, IterationSystem) {
         .map(|s| state.interfaces[s.interface].faces[s.face].law.shear_stiffness().unwrap_or(0.0) * s.tributary)
         .collect();
     let system = inputs(&elements, &soil_trial, &rows, &stiffness, None, &dofs, &state);
-    (dofs.size(), iteration_system(system, &springs, &state, true))
+    (dofs.size(), iteration_system(system, &springs, &state, true, None))
 }

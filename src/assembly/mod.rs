@@ -3,4 +3,6 @@
 
 pub mod system;
 
-pub use system::{internal_force, round_off_floor, ElementMatrices, SoilView, SystemInputs};
+pub use system::{
+    add_spring_forces, internal_force, round_off_floor, soil_and_bar_force, ElementMatrices, SoilView, SystemInputs,
+};

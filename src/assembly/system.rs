@@ -280,6 +280,23 @@ pub fn internal_force(
     bars: &BarStates,
     u: &[f64],
 ) -> Vec<f64> {
+    let mut f = soil_and_bar_force(elements, soil, bars, u);
+    add_spring_forces(&mut f, rows, taus);
+    f
+}
+
+/// The springs' τ·ℓ·row added into `f`.
+pub fn add_spring_forces(f: &mut [f64], rows: &InterfaceRows, taus: &[f64]) {
+    for (spring, tau) in rows.springs.iter().zip(taus) {
+        for &(d, c) in &spring.row {
+            f[d] += tau * spring.tributary * c;
+        }
+    }
+}
+
+/// The soil elements' and the bars' part of the internal force: what depends on the displacements,
+/// the soil's trial state and the bars' states alone (not on the interface springs).
+pub fn soil_and_bar_force(elements: &ElementMatrices, soil: SoilView<'_>, bars: &BarStates, u: &[f64]) -> Vec<f64> {
     let first_bar = elements.bars.first().map(|b| b.block).unwrap_or(elements.blocks.len());
     let mut f = par_block_sum(&elements.blocks[..first_bar], u.len(), |s, dl, k, f| {
         let state = &soil.field.elements[s];
@@ -314,11 +331,6 @@ pub fn internal_force(
         f[dl[1]] -= t * e[1];
         f[dl[2]] += t * e[0];
         f[dl[3]] += t * e[1];
-    }
-    for (spring, tau) in rows.springs.iter().zip(taus) {
-        for &(d, c) in &spring.row {
-            f[d] += tau * spring.tributary * c;
-        }
     }
     f
 }

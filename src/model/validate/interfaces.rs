@@ -13,7 +13,8 @@ use std::collections::HashSet;
 pub(super) fn interfaces(d: &mut Draft, file: &ModelFile, p: &mut Problems) {
     let Draft { mesh, mesh_ok, element_ids, reinf_index, node_sets, interfaces, twins, .. } = d;
     let mut names = HashSet::new();
-    let mut next_bar_id = element_ids.iter().max().copied().unwrap_or(0) + 1;
+    // element ids above `MAX_ID` are refused, and then no interface is built
+    let mut next_bar_id = element_ids.iter().max().copied().unwrap_or(0).saturating_add(1);
     for (k, spec) in file.interfaces.iter().enumerate() {
         let field = format!("interfaces[{k}]");
         let entity = format!("interface \"{}\"", spec.name);

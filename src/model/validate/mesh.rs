@@ -7,6 +7,11 @@ use crate::model::file::*;
 use crate::model::problems::Problems;
 use std::collections::HashSet;
 
+/// The largest node or element id: the largest integer a TOML file can hold, so that a JSON file
+/// cannot give ids a TOML file cannot, and the ids added after the largest one (the nodes and bars
+/// of a split reinforcement) cannot overflow.
+pub(super) const MAX_ID: u64 = i64::MAX as u64;
+
 /// Nodes, soil elements and bars (soil elements and bars share one id space).
 pub(super) fn mesh(d: &mut Draft, file: &ModelFile, p: &mut Problems) {
     let Draft { mesh, element_ids, mesh_ok, soil_index, reinf_index, .. } = d;
@@ -22,6 +27,10 @@ pub(super) fn mesh(d: &mut Draft, file: &ModelFile, p: &mut Problems) {
         if !(x.is_finite() && y.is_finite()) {
             p.push(format!("nodes[{k}]"), &entity, format!("coordinates must be finite numbers, found ({x}, {y})"));
         }
+        if *id > MAX_ID {
+            p.push(format!("nodes[{k}]"), &entity, format!("node ids are at most {MAX_ID}, found {id}"));
+            *mesh_ok = false;
+        }
         mesh.add_node(*id, [*x, *y]);
     }
 
@@ -32,6 +41,9 @@ pub(super) fn mesh(d: &mut Draft, file: &ModelFile, p: &mut Problems) {
         let before = p.len();
         if !element_ids.insert(e.id) {
             p.push(format!("{field}.id"), &entity, format!("duplicate element id {}", e.id));
+        }
+        if e.id > MAX_ID {
+            p.push(format!("{field}.id"), &entity, format!("element ids are at most {MAX_ID}, found {}", e.id));
         }
         if e.nodes.len() != e.kind.node_count() {
             p.push(
@@ -96,6 +108,9 @@ pub(super) fn mesh(d: &mut Draft, file: &ModelFile, p: &mut Problems) {
         let before = p.len();
         if !element_ids.insert(b.id) {
             p.push(format!("{field}.id"), &entity, format!("duplicate element id {}", b.id));
+        }
+        if b.id > MAX_ID {
+            p.push(format!("{field}.id"), &entity, format!("element ids are at most {MAX_ID}, found {}", b.id));
         }
         let mut nodes = [0usize; 2];
         for (j, id) in b.nodes.iter().enumerate() {
