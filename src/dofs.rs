@@ -68,9 +68,9 @@ impl DofMap {
             let f = &i.faces[m.face];
             let kind = if m.tangential { "tangential" } else { "normal" };
             return format!(
-                "the {kind} multiplier of interface \"{}\" ({} face) at node {}",
+                "the {kind} multiplier of interface \"{}\" ({}) at node {}",
                 i.name,
-                f.label,
+                f.named(),
                 mesh.node_id(f.points[m.point].slave)
             );
         }

@@ -252,3 +252,21 @@ fn counts_without_a_limit_are_refused_by_check_as_by_run() {
         assert!(stderr.contains(expected), "{stderr}");
     }
 }
+
+#[test]
+fn a_series_value_given_twice_is_refused_by_check_as_by_run() {
+    // both runs would write the folder q-10, the second over the first
+    let dir = tempfile::tempdir().unwrap();
+    let model = dir.path().join("block.toml");
+    std::fs::write(&model, block("q", &[10.0, 20.0, 10.0])).unwrap();
+    for command in ["check", "run"] {
+        let out = geoslip().arg(command).arg(&model).current_dir(dir.path()).output().unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{command}: {stderr}");
+        assert!(
+            stderr.contains("series.values[2] (load \"q\"): 10 is already series.values[0]"),
+            "{command}: {stderr}"
+        );
+    }
+    assert!(!dir.path().join("results").exists(), "run wrote results for a refused series");
+}

@@ -68,9 +68,9 @@ pub fn in_iterate(it: &Iterate) -> Option<NonFinite> {
                 return found(
                     v,
                     format!(
-                        "the {what} of interface \"{}\" {} face at node {}",
+                        "the {what} of interface \"{}\" {} at node {}",
                         i.name,
-                        i.faces[r.face].label,
+                        i.faces[r.face].named(),
                         mesh.node_id(p.slave)
                     ),
                 );

@@ -68,7 +68,7 @@ pub fn in_place(placed: &[bool], face: &ContactFace, point: &ContactPoint) -> bo
 pub fn describe(mesh: &Mesh, interfaces: &[Interface], m: MultiplierRef) -> String {
     let i = &interfaces[m.interface];
     let f = &i.faces[m.face];
-    format!("interface \"{}\" {} face at node {}", i.name, f.label, mesh.node_id(f.points[m.point].slave))
+    format!("interface \"{}\" {} at node {}", i.name, f.named(), mesh.node_id(f.points[m.point].slave))
 }
 
 /// Contacts as a stage places and removes soil and reinforcement. A point not in place, or whose

@@ -103,6 +103,18 @@ pub struct ContactFace {
     pub law: ShearLaw,
 }
 
+impl ContactFace {
+    /// The face as a message names it: `upper face`, `geotextile on geomembrane face`, or `face`
+    /// for a hand-made pair's one face.
+    pub fn named(&self) -> String {
+        if self.label == "face" {
+            "face".to_string()
+        } else {
+            format!("{} face", self.label)
+        }
+    }
+}
+
 #[derive(Debug, Clone)]
 pub struct Interface {
     pub name: String,

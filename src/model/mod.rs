@@ -422,6 +422,14 @@ fn series_problems(file: &ModelFile, series: &file::Series) -> problems::Problem
     for (k, v) in series.values.iter().enumerate() {
         if !v.is_finite() {
             problems.push(format!("series.values[{k}]"), &entity, format!("must be a finite number, found {v}"));
+        } else if let Some(first) = series.values[..k].iter().position(|w| w == v) {
+            problems.push(
+                format!("series.values[{k}]"),
+                &entity,
+                format!(
+                    "{v} is already series.values[{first}]: each run of a series writes a folder named by its value"
+                ),
+            );
         }
     }
     problems

@@ -105,17 +105,32 @@ fn clear_earlier_run(out: &Path) -> Result<(), Error> {
         let ours = if is_dir {
             is_run_folder(&name)
         } else {
-            ["summary.json", "history.csv", "report.md", "results.pvd", "mesh.msh"].contains(&name.as_str())
+            ["history.csv", "report.md", "results.pvd", "mesh.msh"].contains(&name.as_str())
                 || ((name.starts_with("pullout.") || name.starts_with("profiles-"))
                     && (name.ends_with(".png") || name.ends_with(".svg")))
         };
         match (ours, is_dir) {
-            (true, true) => std::fs::remove_dir_all(&path).map_err(write_error(&path))?,
+            (true, true) => remove_folder(&path)?,
             (true, false) => std::fs::remove_file(&path).map_err(write_error(&path))?,
             _ => {}
         }
     }
-    Ok(())
+    // last: until it goes, a run killed while clearing leaves a folder the next run still
+    // recognises as an earlier run's
+    std::fs::remove_file(&summary).map_err(write_error(&summary))
+}
+
+/// Remove a folder so that a run killed on the way never leaves it half emptied under its own
+/// name: it is renamed to a `.partial-*` name beside it first (which the next run removes, see
+/// [`remove_partial_files`]), then removed.
+fn remove_folder(path: &Path) -> Result<(), Error> {
+    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let doomed = path.with_file_name(format!(".partial-removed-{name}"));
+    if doomed.exists() {
+        std::fs::remove_dir_all(&doomed).map_err(write_error(&doomed))?;
+    }
+    std::fs::rename(path, &doomed).map_err(write_error(path))?;
+    std::fs::remove_dir_all(&doomed).map_err(write_error(&doomed))
 }
 
 /// The folders a run writes in its output folder: one per stage (see `ResultWriter::step_dir`) and
@@ -298,7 +313,7 @@ impl ResultWriter {
         if let Some(generated) = model.mesh_source.as_ref().and_then(|m| m.generated.as_ref()) {
             write_atomically(&out.join("mesh.msh"), &generated.msh)?;
         }
-        Ok(ResultWriter {
+        let writer = ResultWriter {
             vtk: vtk::VtkWriter::new(model, out),
             out: out.to_path_buf(),
             peak_reaction: vec![(0.0, false); targets.len()],
@@ -346,7 +361,11 @@ impl ResultWriter {
                 total_seconds: 0.0,
             },
             units,
-        })
+        };
+        // at once, so that a run killed before its first step leaves a folder the next run
+        // recognises as geoslip's (and clears)
+        writer.write_summary()?;
+        Ok(writer)
     }
 
     /// Each prescribed target's largest |reaction| so far, and the displacement where it occurred.
@@ -540,7 +559,7 @@ impl StepSink for ResultWriter {
         }
         self.write_step_files(&partial, results)?;
         if dir.exists() {
-            std::fs::remove_dir_all(&dir).map_err(write_error(&dir))?;
+            remove_folder(&dir)?;
         }
         std::fs::rename(&partial, &dir).map_err(write_error(&dir))?;
         self.vtk.write_step(self.summary.steps.len() + 1, results)?;

@@ -27,8 +27,8 @@ pub(super) fn mesh(d: &mut Draft, file: &ModelFile, p: &mut Problems) {
         if !(x.is_finite() && y.is_finite()) {
             p.push(format!("nodes[{k}]"), &entity, format!("coordinates must be finite numbers, found ({x}, {y})"));
         }
-        if *id > MAX_ID {
-            p.push(format!("nodes[{k}]"), &entity, format!("node ids are at most {MAX_ID}, found {id}"));
+        if *id > MAX_ID || *id == 0 {
+            p.push(format!("nodes[{k}]"), &entity, format!("node ids are from 1 to {MAX_ID}, found {id}"));
             *mesh_ok = false;
         }
         mesh.add_node(*id, [*x, *y]);
@@ -42,8 +42,8 @@ pub(super) fn mesh(d: &mut Draft, file: &ModelFile, p: &mut Problems) {
         if !element_ids.insert(e.id) {
             p.push(format!("{field}.id"), &entity, format!("duplicate element id {}", e.id));
         }
-        if e.id > MAX_ID {
-            p.push(format!("{field}.id"), &entity, format!("element ids are at most {MAX_ID}, found {}", e.id));
+        if e.id > MAX_ID || e.id == 0 {
+            p.push(format!("{field}.id"), &entity, format!("element ids are from 1 to {MAX_ID}, found {}", e.id));
         }
         if e.nodes.len() != e.kind.node_count() {
             p.push(
@@ -109,8 +109,8 @@ pub(super) fn mesh(d: &mut Draft, file: &ModelFile, p: &mut Problems) {
         if !element_ids.insert(b.id) {
             p.push(format!("{field}.id"), &entity, format!("duplicate element id {}", b.id));
         }
-        if b.id > MAX_ID {
-            p.push(format!("{field}.id"), &entity, format!("element ids are at most {MAX_ID}, found {}", b.id));
+        if b.id > MAX_ID || b.id == 0 {
+            p.push(format!("{field}.id"), &entity, format!("element ids are from 1 to {MAX_ID}, found {}", b.id));
         }
         let mut nodes = [0usize; 2];
         for (j, id) in b.nodes.iter().enumerate() {
