@@ -4,10 +4,11 @@
 # and files written outside --out. The test command runs it on a fixed seed for under a minute;
 # this is for people (100 000 cases take about an hour on two cores), not for CI.
 #
-#   scripts/fuzz.sh [--cases N] [--seed S] [--release] [--log FILE]
+#   scripts/fuzz.sh [--cases N] [--seed S] [--first K] [--release] [--log FILE]
 #
 #   --cases N    how many mutated models (default 10000)
 #   --seed S     the campaign's seed (default 1); the same seed and count give the same models
+#   --first K    start at case K of the seed's sequence (default 0), to go on with a campaign
 #   --release    fuzz the release build (default: the dev profile, which the tests use)
 #   --log FILE   append one line per case: seed model, mutations, exit codes, geoslip's first message
 #
@@ -18,25 +19,27 @@ cd "$(dirname "$0")/.."
 
 cases=10000
 seed=1
+first=0
 profile=()
 log=""
 while [ $# -gt 0 ]; do
   case "$1" in
     --cases) cases="$2"; shift 2 ;;
     --seed) seed="$2"; shift 2 ;;
+    --first) first="$2"; shift 2 ;;
     --release) profile=(--release); shift ;;
     --log) log="$2"; shift 2 ;;
     -h|--help) sed -n '2,16p' "$0"; exit 0 ;;
     *) echo "scripts/fuzz.sh: unknown argument $1 (see --help)" >&2; exit 2 ;;
   esac
 done
-case "$cases$seed" in *[!0-9]*) echo "scripts/fuzz.sh: --cases and --seed take whole numbers" >&2; exit 2 ;; esac
+case "$cases$seed$first" in *[!0-9]*) echo "scripts/fuzz.sh: --cases, --seed and --first take whole numbers" >&2; exit 2 ;; esac
 
 echo "== building the fuzzer and geoslip (${profile[*]:-dev profile})"
 cargo test --locked "${profile[@]}" --test model_fuzzer --no-run --quiet
 
-echo "== fuzzing: $cases cases, seed $seed"
-export GEOSLIP_FUZZ_CASES="$cases" GEOSLIP_FUZZ_SEED="$seed" GEOSLIP_FUZZ_PROGRESS=1
+echo "== fuzzing: $cases cases from case $first, seed $seed"
+export GEOSLIP_FUZZ_CASES="$cases" GEOSLIP_FUZZ_SEED="$seed" GEOSLIP_FUZZ_FIRST="$first" GEOSLIP_FUZZ_PROGRESS=1
 if [ -n "$log" ]; then
   export GEOSLIP_FUZZ_LOG="$log"
 fi

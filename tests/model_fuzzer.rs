@@ -34,6 +34,7 @@
 //! - any file or folder appearing in the case's scratch folder but `out/` and what is in it.
 //!
 //! `GEOSLIP_FUZZ_CASES` and `GEOSLIP_FUZZ_SEED` set the number of cases and the seed,
+//! `GEOSLIP_FUZZ_FIRST` the first case's number (to go on with a campaign of the same seed),
 //! `GEOSLIP_FUZZ_BIN` another `geoslip` binary to fuzz, `GEOSLIP_FUZZ_LOG` a file that gets one line
 //! per case (the mutations and what geoslip said) and `GEOSLIP_FUZZ_TMPDIR` where the cases run
 //! (default `/dev/shm`: a run syncs every file it writes), `GEOSLIP_FUZZ_PROGRESS` prints a line
@@ -329,9 +330,10 @@ fn degenerate_element(rng: &mut Rand, model: &mut Value) -> Option<String> {
         return None;
     }
     let e = rng.below(n_elements);
-    let nodes: Vec<i64> =
-        model["elements"][e].get("nodes")?.as_array()?.iter().filter_map(|v| v.as_integer()).collect();
-    if nodes.len() < 3 {
+    let listed = model["elements"][e].get("nodes")?.as_array()?;
+    let nodes: Vec<i64> = listed.iter().filter_map(|v| v.as_integer()).collect();
+    // (an earlier mutation may have made an entry something else than an id)
+    if nodes.len() < 3 || nodes.len() != listed.len() {
         return None;
     }
     let corners = if nodes.len() == 4 || nodes.len() == 8 { 4 } else { 3 };
@@ -1235,12 +1237,13 @@ fn env_number(name: &str, default: u64) -> u64 {
 
 #[test]
 fn mutated_models_never_panic_crash_hang_disagree_write_non_finite_numbers_or_escape_the_output_folder() {
-    let cases = env_number("GEOSLIP_FUZZ_CASES", DEFAULT_CASES as u64) as usize;
+    let first = env_number("GEOSLIP_FUZZ_FIRST", 0) as usize;
+    let cases = first + env_number("GEOSLIP_FUZZ_CASES", DEFAULT_CASES as u64) as usize;
     let seed = env_number("GEOSLIP_FUZZ_SEED", DEFAULT_SEED);
     let seeds = seeds();
     assert!(!seeds.is_empty(), "no seed models in tests/fuzz-seeds");
     let started = Instant::now();
-    let next = AtomicUsize::new(0);
+    let next = AtomicUsize::new(first);
     let outcomes = Mutex::new(Vec::new());
     let verbose = std::env::var_os("GEOSLIP_FUZZ_PROGRESS").is_some();
     std::thread::scope(|s| {

@@ -54,8 +54,11 @@ fn bounds(series: &[Series]) -> ((f64, f64), (f64, f64)) {
     if x0 > x1 {
         return ((0.0, 1.0), (0.0, 1.0));
     }
+    // a span within round-off of its values (a force that is zero to 1e-14 throughout) is drawn
+    // flat, not stretched over the whole axis as if it varied
     let pad = |a: f64, b: f64| {
-        let d = if (b - a).abs() > 1e-300 { 0.05 * (b - a) } else { 0.5 * a.abs().max(1.0) };
+        let flat = (b - a).abs() <= 1e-12 * a.abs().max(b.abs()).max(1.0);
+        let d = if flat { 0.5 * a.abs().max(b.abs()).max(1.0) } else { 0.05 * (b - a) };
         (a - d, b + d)
     };
     (pad(x0, x1), pad(y0.min(0.0), y1.max(0.0)))
@@ -148,4 +151,21 @@ pub fn write_figure(dir: &Path, stem: &str, panels: &[Panel], columns: usize) ->
     draw_all(BitMapBackend::new(&tmp, size).into_drawing_area(), panels, columns).map_err(|m| fail(&png_path, m))?;
     std::fs::rename(&tmp, &png_path).map_err(|source| Error::Write { path: png_path.clone(), source })?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    //! The axes' ranges: a curve that is zero to round-off is drawn flat at zero; a real one fills
+    //! its axis with a 5 % margin.
+    use super::*;
+
+    #[test]
+    fn a_curve_zero_to_round_off_is_drawn_flat() {
+        let noise: Series = ("force".into(), vec![(0.0, 0.0), (0.002, 0.0), (0.004, 3.5e-14), (0.008, 0.0)]);
+        let (_, (y0, y1)) = bounds(&[noise]);
+        assert!(y0 <= -0.5 && y1 >= 0.5, "({y0}, {y1})");
+        let curve: Series = ("force".into(), vec![(0.0, 0.0), (0.01, 12.0)]);
+        let (_, (y0, y1)) = bounds(&[curve]);
+        assert!((y0 + 0.6).abs() < 1e-12 && (y1 - 12.6).abs() < 1e-12, "({y0}, {y1})");
+    }
 }
