@@ -412,13 +412,13 @@ pub struct GeneratedMesh {
 /// The node and element counts a `.msh` file declares in its section headers, read without parsing
 /// it: ASCII 2.2 and 4.1 give both, binary 4.1 the nodes (the elements then taken as many).
 pub fn declared_counts(bytes: &[u8]) -> Option<(usize, usize)> {
-    let binary = section_start(bytes, b"$MeshFormat\n")
+    // "4.1 0 8": version, file type (1: binary), data size
+    let format = section_start(bytes, b"$MeshFormat\n")
         .and_then(|at| bytes[at..].split(|&b| b == b'\n').next())
         .and_then(|line| std::str::from_utf8(line).ok())
-        .is_some_and(|line| line.split_whitespace().nth(1) == Some("1"));
-    let v41 = section_start(bytes, b"$MeshFormat\n")
-        .and_then(|at| bytes[at..].split(|&b| b == b'\n').next())
-        .is_some_and(|line| line.starts_with(b"4"));
+        .unwrap_or("");
+    let binary = format.split_whitespace().nth(1) == Some("1");
+    let v41 = format.starts_with('4');
     let ascii_count = |section: &[u8]| -> Option<usize> {
         let at = section_start(bytes, section)?;
         let line = std::str::from_utf8(bytes[at..].split(|&b| b == b'\n').next()?).ok()?;

@@ -16,21 +16,27 @@ use geoslip::linsol::Backend;
 use geoslip::meshgen::PullOutBox;
 use geoslip::model::file::{Scheme, ShearLawSpec};
 
+/// The model above, iterated by `scheme`, with σn frozen or not.
+fn frictional_pullout(scheme: Scheme, frozen: bool) -> geoslip::model::Model {
+    let mut file = PullOutBox {
+        law: ShearLawSpec::Coulomb { shear_stiffness: 540.0, cohesion: 0.0, friction_angle: 30.0 },
+        surcharge: 10.0,
+        pull: 0.04,
+        steps: 8,
+        ..PullOutBox::default()
+    }
+    .model();
+    file.analysis.scheme = scheme;
+    file.analysis.freeze_normal_stress = frozen;
+    file.analysis.force_tolerance = 1e-10;
+    common::model(&file, "frictional-pullout.toml")
+}
+
 #[test]
 fn schemes_agree_and_the_consistent_tangent_converges_fastest() {
     let mut runs = Vec::new();
     for scheme in [Scheme::ConstantStiffness, Scheme::NewtonSymmetric, Scheme::Newton] {
-        let mut file = PullOutBox {
-            law: ShearLawSpec::Coulomb { shear_stiffness: 540.0, cohesion: 0.0, friction_angle: 30.0 },
-            surcharge: 10.0,
-            pull: 0.04,
-            steps: 8,
-            ..PullOutBox::default()
-        }
-        .model();
-        file.analysis.scheme = scheme;
-        file.analysis.force_tolerance = 1e-10;
-        let model = common::model(&file, "frictional-pullout.toml");
+        let model = frictional_pullout(scheme, false);
         let c = common::run(&model, Backend::available()[0]);
         let head = model.node_sets["grid.head"][0];
         let pull = -c.last().unwrap().reaction_vector[2 * head];
@@ -62,18 +68,7 @@ fn newton_factorises_symmetric_where_its_tangent_is_and_reaches_the_same_equilib
     // tangent is unsymmetric and is factorised as LU. Both reach the constant-stiffness answer.
     use geoslip::analysis::{self, Collect, RunOptions};
     let solve = |scheme: Scheme, frozen: bool, backend: Backend| {
-        let mut file = PullOutBox {
-            law: ShearLawSpec::Coulomb { shear_stiffness: 540.0, cohesion: 0.0, friction_angle: 30.0 },
-            surcharge: 10.0,
-            pull: 0.04,
-            steps: 8,
-            ..PullOutBox::default()
-        }
-        .model();
-        file.analysis.scheme = scheme;
-        file.analysis.freeze_normal_stress = frozen;
-        file.analysis.force_tolerance = 1e-10;
-        let model = common::model(&file, "frictional-pullout.toml");
+        let model = frictional_pullout(scheme, frozen);
         let mut collect = Collect::default();
         let options = RunOptions::for_model(&model, backend);
         let stats = analysis::run(&model, &options, &mut collect).unwrap_or_else(|e| panic!("{e}"));

@@ -152,9 +152,13 @@ impl StiffnessSpread {
 /// Warn (once a run) when a matrix that was solved is ill-conditioned: its results carry round-off
 /// that the residual check may not show.
 pub fn warn_if_ill_conditioned(cx: &mut Context, dofs: &DofMap, state: &State, triplets: &Triplets) {
+    const WARNING: &str = "the stiffness matrix is ill-conditioned";
+    if cx.system.stats.warnings.iter().any(|w| w.starts_with(WARNING)) {
+        return;
+    }
     if let Some(spread) = StiffnessSpread::of(triplets, dofs).filter(|s| s.ratio > ILL_CONDITIONED) {
         let warning = format!(
-            "the stiffness matrix is ill-conditioned: its diagonal ranges from {:.3e} at {} to {:.3e} at {} (a ratio \
+            "{WARNING}: its diagonal ranges from {:.3e} at {} to {:.3e} at {} (a ratio \
              of {:.1e}, beyond the 1e12 that double precision factorises reliably); the results carry round-off: \
              bring the stiffnesses closer (the soil's Young's modulus against the reinforcement's EA and the \
              interfaces' Ks, in consistent units)",
@@ -164,9 +168,7 @@ pub fn warn_if_ill_conditioned(cx: &mut Context, dofs: &DofMap, state: &State, t
             dofs.describe(spread.stiffest.0, &cx.model.mesh, &state.interfaces),
             spread.ratio
         );
-        if !cx.system.stats.warnings.iter().any(|w| w.starts_with("the stiffness matrix is ill-conditioned")) {
-            cx.system.stats.warnings.push(warning);
-        }
+        cx.system.stats.warnings.push(warning);
     }
 }
 

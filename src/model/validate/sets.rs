@@ -51,20 +51,20 @@ pub(super) fn node_and_edge_sets(d: &mut Draft, file: &ModelFile, p: &mut Proble
             }
             let found = sides.between(idx[0], idx[1]);
             match found.as_slice() {
-                // an element of the file at these nodes that could not be built: its own problem is
-                // the one to fix, and this edge's follows from it
-                [] if broken_at(edge).is_some() => p.push(
-                    field,
-                    &entity,
-                    format!(
-                        "nodes {} and {} are not the corners of an element side; element {} at them has a problem of \
-                         its own (above): fix that first",
-                        edge[0],
-                        edge[1],
-                        broken_at(edge).unwrap_or(0)
+                [] => match broken_at(edge) {
+                    // an element of the file at these nodes that could not be built: its own
+                    // problem is the one to fix, and this edge's follows from it
+                    Some(id) => p.push(
+                        field,
+                        &entity,
+                        format!(
+                            "nodes {} and {} are not the corners of an element side; element {id} at them has a problem \
+                             of its own (above): fix that first",
+                            edge[0], edge[1]
+                        ),
                     ),
-                ),
-                [] => p.push(field, &entity, format!("nodes {} and {} are not the corners of an element side", edge[0], edge[1])),
+                    None => p.push(field, &entity, format!("nodes {} and {} are not the corners of an element side", edge[0], edge[1])),
+                },
                 [s] => {
                     let solid = &mesh.solids[s.solid];
                     let local = solid
