@@ -971,7 +971,8 @@ fn tree(dir: &Path, skip: &Path) -> Vec<PathBuf> {
 
 /// Fields of the JSON results that may be null (an `Option` in the writer); a null anywhere else is
 /// a NaN or an infinity that serde_json wrote as null.
-const NULLABLE: [&str; 14] = [
+const NULLABLE: [&str; 15] = [
+    "condensed_unknowns",
     "error",
     "from",
     "to",

@@ -9,7 +9,9 @@ use crate::dofs::{dof, DofMap};
 use crate::element::bar::BarMaterial;
 use crate::error::{Error, MemoryShortfall, SolveError};
 use crate::interface::active_set::ActiveSet;
+use crate::linsol::condensed::CondensedSystem;
 use crate::linsol::linear_system::LinearSystem;
+use crate::linsol::Backend;
 use crate::model::{Model, Scheme};
 
 /// The run's context: passed to every step instead of a long list of parameters.
@@ -20,6 +22,11 @@ pub struct Context<'a> {
     /// The soil's laws (reduced by a strength-reduction search while it runs).
     pub setup: SoilSetup,
     pub system: LinearSystem,
+    /// The soil condensed onto the interface's unknowns (`condensation`), where the run condenses.
+    pub condensed: Option<CondensedSystem>,
+    /// The soil part (its key) whose condensed system's stiffness spread was checked
+    /// (`singular::warn_if_ill_conditioned`).
+    pub conditioning_checked: Option<u64>,
     /// Nodes that belong to no soil element (reinforcement nodes): their transverse DOF has no
     /// stiffness of its own.
     pub bar_only: Vec<bool>,
@@ -47,6 +54,10 @@ impl<'a> Context<'a> {
         let elements = element_matrices(model, &setup);
         let system =
             LinearSystem::new(options.backend, symmetric_tangent(model, options), &options.solver).map_err(at_start)?;
+        let condensed = condenses(options, &setup)
+            .then(|| CondensedSystem::new(options.backend, &options.solver))
+            .transpose()
+            .map_err(at_start)?;
         let dof_count = 2 * model.mesh.nodes.len();
         let mut held = vec![false; dof_count];
         for &(n, d) in &model.supports {
@@ -58,6 +69,8 @@ impl<'a> Context<'a> {
             elements,
             setup,
             system,
+            condensed,
+            conditioning_checked: None,
             bar_only: bar_only_nodes(model),
             held,
             gravity: 0.0,
@@ -97,6 +110,16 @@ pub fn element_matrices(model: &Model, setup: &SoilSetup) -> ElementMatrices {
         })
         .collect();
     ElementMatrices::compute(&model.mesh, &setup.elastic, &bar_materials, setup.rule)
+}
+
+/// Whether the run condenses its soil onto the interface (`condensation`): asked for (the default),
+/// a soil that stays elastic, and a backend with a condensed path (every one but the dense
+/// reference; not in the MPI build, whose ranks share one factorisation).
+fn condenses(options: &RunOptions, setup: &SoilSetup) -> bool {
+    options.solver.condense
+        && !setup.any_plastic()
+        && options.backend.resolve() != Backend::Dense
+        && !cfg!(feature = "mpi")
 }
 
 /// Whether every matrix of the run is symmetric, so that the solver may factorise it as LDLᵀ (MUMPS

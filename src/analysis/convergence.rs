@@ -157,10 +157,17 @@ pub fn out_of_balance(
     state: &State,
     dofs: &DofMap,
 ) -> (f64, f64, Vec<f64>) {
-    let n_dof = state.u.len();
     let view = SoilView { field: &state.soil, trial: soil_trial };
     let element = soil_and_bar_force(elements, view, &state.bars, &state.u);
-    let mut f_int = element.clone();
+    let (residual, reference) = balance(&element, rows, taus, state, dofs);
+    (residual, reference, element)
+}
+
+/// ‖out-of-balance force on the free DOFs‖ and the reference force, from the elements' part of the
+/// internal force `element` (however it was found).
+pub fn balance(element: &[f64], rows: &InterfaceRows, taus: &[f64], state: &State, dofs: &DofMap) -> (f64, f64) {
+    let n_dof = state.u.len();
+    let mut f_int = element.to_vec();
     add_spring_forces(&mut f_int, rows, taus);
     let f_c = constraint_force(rows, &state.lambda, n_dof);
     let mut r2 = 0.0;
@@ -174,7 +181,7 @@ pub fn out_of_balance(
             reference2 += r * r; // reactions
         }
     }
-    (r2.sqrt(), reference2.sqrt().max(f64::MIN_POSITIVE), element)
+    (r2.sqrt(), reference2.sqrt().max(f64::MIN_POSITIVE))
 }
 
 /// Whether every active row's gap is closed (to 10⁻⁹ of the largest displacement, or of 10⁻⁶ of

@@ -10,8 +10,9 @@
 //! stay, so the factorisation is reused and an iteration costs one solve) or its tangent (Newton);
 //! under the consistent Newton tangent the springs' shear is coupled to their normal multipliers.
 
+use super::condensation::{self, Condensed, Deferred};
 use super::context::{element_matrices, Context};
-use super::convergence::{displacement_ok, gaps_closed, out_of_balance, IncrementError, Measures};
+use super::convergence::{balance, displacement_ok, gaps_closed, out_of_balance, IncrementError, Measures};
 use super::non_finite::{self, Iterate};
 use super::singular::{self, Fallbacks, Recovered, SingularMatrix};
 use super::soil;
@@ -61,6 +62,10 @@ struct Iterations {
     iteration: usize,
     /// The last out-of-balance force and its reference.
     last_residual: Option<(f64, f64)>,
+    /// This iteration solved the whole system condensed: the interior is in balance after it.
+    condensed_solve: bool,
+    /// The interface iteration under way (`condensation::Deferred`).
+    deferred: Option<Deferred>,
 }
 
 /// The linearisation at one iterate: what the matrix and the right-hand side are built from.
@@ -106,20 +111,29 @@ pub fn equilibrium(cx: &mut Context, dofs: &DofMap, state: &mut State) -> Result
         carried_element_force: None,
         iteration: 0,
         last_residual: None,
+        condensed_solve: false,
+        deferred: None,
     };
     let max_iterations = cx.options.analysis.max_iterations;
     for iteration in 1..=max_iterations {
         cx.system.stats.iterations += 1;
         it.iteration = iteration;
         let linear = linearise(cx, dofs, state, &mut it, iteration);
-        let Some(Solution { x, scale, rhs }) = solve(cx, dofs, state, &mut it, &linear)? else { continue };
+        it.condensed_solve = false;
+        let solution = match solve_interface(cx, dofs, state, &mut it, &linear)? {
+            Some(solution) => Some(solution),
+            None => solve(cx, dofs, state, &mut it, &linear)?,
+        };
+        let Some(Solution { x, scale, rhs }) = solution else { continue };
         let step = if linear.soil_trial.yielding > 0 && linear.tangent != Tangent::Elastic {
             line_search(cx, dofs, state, &linear.rows, &x, scale, &rhs[..dofs.free_count])
         } else {
             1.0
         };
         let correction2 = apply_correction(dofs, state, &x, step, scale);
-        match check(cx, dofs, state, &mut it, iteration, correction2)? {
+        // an interface iteration carries its soil (elastic, the interior unmoved) to the next
+        let soil = it.deferred.is_some().then_some(linear.soil_trial);
+        match check(cx, dofs, state, &mut it, iteration, correction2, soil)? {
             Some(report) => return Ok(report),
             None => continue,
         }
@@ -250,6 +264,11 @@ fn solve(
     it: &mut Iterations,
     linear: &Linearisation,
 ) -> Result<Option<Solution>, IncrementError> {
+    if cx.condensed.is_some() {
+        if let Some(solution) = solve_condensed(cx, dofs, state, it, linear)? {
+            return Ok(Some(solution));
+        }
+    }
     // The matrix of the last solve, when nothing in it changed (constant stiffness, no state
     // change): no assembly, no factorisation, one solve.
     let t = Instant::now();
@@ -317,6 +336,126 @@ fn solve(
     }
 }
 
+/// The inputs of an iteration's matrix and its right-hand side alone (no matrix assembled), for
+/// the solves that take the matrix in parts; the constraint rows' scale.
+fn right_hand_side<'a>(
+    elements: &'a ElementMatrices,
+    stats: &mut crate::linsol::linear_system::SolverStats,
+    stiffness: &'a [f64],
+    linear: &'a Linearisation,
+    dofs: &'a DofMap,
+    state: &'a State,
+    element: Option<Vec<f64>>,
+) -> (SystemInputs<'a>, Vec<f64>, f64) {
+    let t = Instant::now();
+    let system = inputs(elements, &linear.soil_trial, &linear.rows, stiffness, linear.coupling.as_deref(), dofs, state);
+    let IterationSystem { rhs, scale, .. } = iteration_system(system, &linear.springs, state, false, element);
+    stats.assembly_seconds += t.elapsed().as_secs_f64();
+    (system, rhs, scale)
+}
+
+/// The iteration's system solved with the soil condensed onto the interface (`condensation`);
+/// `None` where this iteration needs the full system.
+fn solve_condensed(
+    cx: &mut Context,
+    dofs: &DofMap,
+    state: &State,
+    it: &mut Iterations,
+    linear: &Linearisation,
+) -> Result<Option<Solution>, IncrementError> {
+    let model = cx.model;
+    let Context { condensed, system: linear_system, elements, .. } = &mut *cx;
+    let stats = &mut linear_system.stats;
+    let stiffness = &it.kept_stiffness.as_ref().expect("set by linearise").1;
+    let element = it.carried_element_force.clone();
+    let (system, rhs, scale) = right_hand_side(elements, stats, stiffness, linear, dofs, state, element);
+    if rhs.iter().any(|v| !v.is_finite()) {
+        // the full path names the first place
+        return Ok(None);
+    }
+    let Condensed::Solved(x, linear_residual) =
+        condensation::solve(condensed, stats, elements, dofs, state, system, linear.key, &rhs)
+    else {
+        return Ok(None);
+    };
+    let iterate =
+        Iterate { mesh: &model.mesh, dofs, state, soil_trial: Some(&linear.soil_trial), springs: &linear.springs };
+    if let Some(first) = non_finite::in_solution(&iterate, &x) {
+        return Err(IncrementError::NonFinite { iteration: it.iteration, first });
+    }
+    // the stiffness spread of the whole matrix, once for each condensed soil
+    let soil_key = cx.condensed.as_ref().and_then(|c| c.condensed_on()).map(|(_, key)| key);
+    if soil_key.is_some() && soil_key != cx.conditioning_checked {
+        cx.conditioning_checked = soil_key;
+        let stiffness = &it.kept_stiffness.as_ref().expect("set by linearise").1;
+        let system =
+            inputs(&cx.elements, &linear.soil_trial, &linear.rows, stiffness, linear.coupling.as_deref(), dofs, state);
+        let triplets = system.assemble();
+        singular::warn_if_ill_conditioned(cx, dofs, state, &triplets);
+    }
+    it.carried_element_force = None;
+    // the full system's factorisation (if any) is not this iteration's matrix
+    it.matrix_key = None;
+    it.condensed_solve = true;
+    it.linear_residuals.push(linear_residual);
+    Ok(Some(Solution { x, scale, rhs }))
+}
+
+/// An interface iteration (`condensation::Deferred`), when one is under way: the kept rows of the
+/// right-hand side solved on the condensed system. `None` when none is under way, or when the
+/// kept system cannot be solved (the interior then follows, and the whole system is solved).
+fn solve_interface(
+    cx: &mut Context,
+    dofs: &DofMap,
+    state: &mut State,
+    it: &mut Iterations,
+    linear: &Linearisation,
+) -> Result<Option<Solution>, IncrementError> {
+    let Some(deferred) = it.deferred.as_mut() else { return Ok(None) };
+    let Context { condensed, system: linear_system, elements, .. } = &mut *cx;
+    let stats = &mut linear_system.stats;
+    let stiffness = &it.kept_stiffness.as_ref().expect("set by linearise").1;
+    let element = it.carried_element_force.take();
+    let (system, rhs, scale) = right_hand_side(elements, stats, stiffness, linear, dofs, state, element);
+    let solved = match condensed.as_mut() {
+        Some(c) if rhs.iter().all(|v| v.is_finite()) => {
+            condensation::solve_deferred(c, stats, deferred, system, linear.key, &rhs)
+        }
+        _ => None,
+    };
+    match solved {
+        Some((x, linear_residual)) => {
+            it.linear_residuals.push(linear_residual);
+            Ok(Some(Solution { x, scale, rhs }))
+        }
+        None => {
+            finish_interface(cx, dofs, state, it)?;
+            Ok(None)
+        }
+    }
+}
+
+/// The interior follows an interface iteration's movement of the kept unknowns.
+fn finish_interface(
+    cx: &mut Context,
+    dofs: &DofMap,
+    state: &mut State,
+    it: &mut Iterations,
+) -> Result<(), IncrementError> {
+    let Some(deferred) = it.deferred.take() else { return Ok(()) };
+    it.carried_element_force = None;
+    it.carried_soil = None;
+    let Context { condensed, system: linear_system, .. } = &mut *cx;
+    let Some(c) = condensed.as_mut() else { return Ok(()) };
+    deferred.finish(c, &mut linear_system.stats, dofs, state).map_err(|e| match e {
+        Failure::Other(e) => IncrementError::Solve(e),
+        Failure::Singular { .. } => IncrementError::Solve(crate::error::SolveError::Backend {
+            backend: c.backend().name(),
+            message: "the interior could not follow the interface's movement".into(),
+        }),
+    })
+}
+
 /// Add `step` times the correction to the displacements and the multipliers; returns the squared
 /// norm of the displacement correction.
 fn apply_correction(dofs: &DofMap, state: &mut State, x: &[f64], step: f64, scale: f64) -> f64 {
@@ -342,6 +481,7 @@ fn check(
     it: &mut Iterations,
     iteration: usize,
     correction2: f64,
+    interface_soil: Option<SoilTrial>,
 ) -> Result<Option<IncrementReport>, IncrementError> {
     let t = Instant::now();
     clip(cx, state);
@@ -371,8 +511,34 @@ fn check(
     // nothing, as a strength-reduction trial at F = 1, while slack sheets under no normal stress
     // drift along themselves without changing any force)
     let displacement_ok = displacement_ok(settings, iteration, correction2, &state.u, &it.u_increment_start);
-    let t = Instant::now();
     let taus: Vec<f64> = springs.iter().map(|r| r.tau).collect();
+    if let (Some(deferred), Some(condensed)) = (it.deferred.as_ref(), cx.condensed.as_ref()) {
+        // an interface iteration: the residual on the kept unknowns, the interior unmoved
+        let t = Instant::now();
+        let element = deferred.element_force(condensed, &cx.elements, state);
+        let (residual, reference) = balance(&element, &rows, &taus, state, dofs);
+        cx.system.stats.residual_seconds += t.elapsed().as_secs_f64();
+        it.last_residual = Some((residual, reference));
+        let measures = Measures {
+            residual,
+            reference,
+            floor: deferred.floor,
+            settled: changes.is_empty(),
+            gaps_closed: gaps_closed(&gaps, state, dofs, characteristic),
+            displacement_ok,
+        };
+        let last = iteration == settings.max_iterations;
+        if !measures.converged(settings) && !last && residual.is_finite() {
+            it.carried_element_force = Some(element);
+            it.carried_soil = interface_soil;
+            return Ok(None);
+        }
+        // converged on the interface (or out of iterations): the interior follows, and the whole
+        // system is checked below
+        finish_interface(cx, dofs, state, it)?;
+    }
+    let settings = &cx.options.analysis;
+    let t = Instant::now();
     // with the tangent the next iteration assembles (the forces do not depend on it)
     let soil_trial = soil::evaluate(&cx.setup, &state.soil, &state.u, &state.u_committed, it.fallbacks.soil_tangent);
     let (residual, reference, element_force) = out_of_balance(&cx.elements, &soil_trial, &rows, &taus, state, dofs);
@@ -422,6 +588,13 @@ fn check(
             unsettled,
             yielding: soil_trial.yielding,
         });
+    }
+    if it.condensed_solve {
+        // the whole system was solved condensed: the interior is in balance, and the iterations
+        // go on on the interface alone
+        if let Some(condensed) = cx.condensed.as_ref() {
+            it.deferred = Deferred::start(condensed, &cx.elements, dofs, state, &element_force, measures.floor);
+        }
     }
     it.carried_soil = Some(soil_trial);
     it.carried_element_force = Some(element_force);

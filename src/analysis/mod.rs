@@ -32,6 +32,7 @@
 //! segment it now faces. Held DOFs (supports and prescribed displacements) are eliminated; their
 //! reactions come from the same residual.
 
+mod condensation;
 mod context;
 mod convergence;
 mod equilibrium;

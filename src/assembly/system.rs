@@ -133,6 +133,14 @@ fn dofs_of(nodes: &[usize]) -> Vec<usize> {
     nodes.iter().flat_map(|&n| [2 * n, 2 * n + 1]).collect()
 }
 
+/// Which element blocks to assemble.
+#[derive(Clone, Copy)]
+enum Blocks {
+    All,
+    Soil,
+    Bars,
+}
+
 /// Everything the saddle-point matrix of one iteration is made of. [`SystemInputs::assemble`] builds
 /// the matrix from it and [`SystemInputs::fingerprint`] hashes the same fields, so that the two
 /// cannot drift apart: an iteration whose fingerprint equals the last one's has the same matrix and
@@ -163,12 +171,60 @@ impl SystemInputs<'_> {
     /// then Δλ/s. This equilibration keeps the saddle-point matrix well conditioned for backends
     /// that do not scale it themselves.
     pub fn assemble(&self) -> Triplets {
-        let SystemInputs { elements, soil, rows, spring_stiffness, spring_coupling, bars, interfaces, dofs, scale } =
-            *self;
         let mut t = Triplets::default();
+        self.add_blocks(&mut t, Blocks::All);
+        self.add_interface(&mut t);
+        t
+    }
+
+    /// The soil elements alone: the part of the matrix that stays while the soil is elastic and
+    /// no element is placed or removed ([`SystemInputs::soil_fingerprint`]).
+    pub fn assemble_soil(&self) -> Triplets {
+        let mut t = Triplets::default();
+        self.add_blocks(&mut t, Blocks::Soil);
+        t
+    }
+
+    /// Everything but the soil elements: the bars, the springs and the constraint rows. With
+    /// [`SystemInputs::assemble_soil`] it sums to [`SystemInputs::assemble`].
+    pub fn assemble_reinforcement_and_interface(&self) -> Triplets {
+        let mut t = Triplets::default();
+        self.add_blocks(&mut t, Blocks::Bars);
+        self.add_interface(&mut t);
+        t
+    }
+
+    /// A fingerprint of the soil part: which elements are present, their tangents and the
+    /// equation numbers.
+    pub fn soil_fingerprint(&self) -> u64 {
+        use std::hash::{Hash, Hasher};
+        let mut h = std::collections::hash_map::DefaultHasher::new();
+        for (state, tangent) in self.soil.field.elements.iter().zip(&self.soil.trial.tangents) {
+            state.active.hash(&mut h);
+            if let Some(k) = tangent {
+                for v in k.iter() {
+                    v.to_bits().hash(&mut h);
+                }
+            }
+        }
+        self.soil.trial.tangents.len().hash(&mut h);
+        self.dofs.equation.hash(&mut h);
+        h.finish()
+    }
+
+    fn add_blocks(&self, t: &mut Triplets, which: Blocks) {
+        let SystemInputs { elements, soil, bars, dofs, .. } = *self;
         let eq = |d: usize| dofs.equation[d];
         let first_bar = elements.bars.first().map_or(usize::MAX, |bar| bar.block);
         for (b, (dl, k)) in elements.blocks.iter().enumerate() {
+            let wanted = match which {
+                Blocks::All => true,
+                Blocks::Soil => b < first_bar,
+                Blocks::Bars => b >= first_bar,
+            };
+            if !wanted {
+                continue;
+            }
             // absent soil is left out; a yielding element gives its tangent
             let k = if b < first_bar {
                 if !soil.field.elements[b].active {
@@ -189,6 +245,12 @@ impl SystemInputs<'_> {
                 }
             }
         }
+    }
+
+    /// The springs, their coupling to the multipliers and the constraint rows.
+    fn add_interface(&self, t: &mut Triplets) {
+        let SystemInputs { rows, spring_stiffness, spring_coupling, interfaces, dofs, scale, .. } = *self;
+        let eq = |d: usize| dofs.equation[d];
         for (spring, k) in rows.springs.iter().zip(spring_stiffness) {
             for &(da, ca) in &spring.row {
                 let Some(ia) = eq(da) else { continue };
@@ -224,7 +286,6 @@ impl SystemInputs<'_> {
             }
             t.push(m, m, if active { 0.0 } else { scale });
         }
-        t
     }
 
     /// A fingerprint of everything in the assembled matrix but the element matrices (which do not
@@ -323,6 +384,18 @@ pub fn soil_and_bar_force(elements: &ElementMatrices, soil: SoilView<'_>, bars: 
             f[da] += fe[a];
         }
     });
+    add_bar_forces(&mut f, elements, bars, u);
+    f
+}
+
+/// The bars' part of the internal force alone.
+pub fn bar_force(elements: &ElementMatrices, bars: &BarStates, u: &[f64]) -> Vec<f64> {
+    let mut f = vec![0.0; u.len()];
+    add_bar_forces(&mut f, elements, bars, u);
+    f
+}
+
+fn add_bar_forces(f: &mut [f64], elements: &ElementMatrices, bars: &BarStates, u: &[f64]) {
     for (i, bar) in elements.bars.iter().enumerate() {
         let dl = &elements.blocks[bar.block].0;
         let t = bar.force(u, dl, bars, i);
@@ -332,7 +405,6 @@ pub fn soil_and_bar_force(elements: &ElementMatrices, soil: SoilView<'_>, bars: 
         f[dl[2]] += t * e[0];
         f[dl[3]] += t * e[1];
     }
-    f
 }
 
 /// The round-off floor of the out-of-balance force: ‖Σ_e |K_e·u_e|‖ (per DOF, the sum of the

@@ -3,10 +3,11 @@
 mod bench;
 pub mod measure;
 mod progress;
+mod pullout_bench;
 
 use crate::analysis::RunOptions;
 use crate::linsol::{Backend, Ordering, SolverOptions};
-use crate::model::{Case, LoadOptions, Model};
+use crate::model::{Case, LoadOptions, Model, Scheme};
 use crate::output::ResultWriter;
 use bench::{bench, bench_nonlinear};
 use clap::{Parser, Subcommand};
@@ -82,6 +83,10 @@ enum Command {
         /// …). A .geo file is a program: read it first.
         #[arg(long)]
         trust_geo: bool,
+        /// Solve the whole system in every iteration instead of condensing an elastic soil onto the
+        /// interface's unknowns (the same answers; for comparison and benchmarks).
+        #[arg(long)]
+        full_system: bool,
     },
     /// Check a model and list every problem found. It runs no other program: a mesh given as a .geo
     /// script is read (and refused if it runs programs or writes files) but meshed only with --mesh.
@@ -117,6 +122,11 @@ enum Command {
         /// and re-association, timed phase by phase (on the first of `--backends`, default the best).
         #[arg(long)]
         nonlinear: bool,
+        /// The pull-out benchmark instead: a whole run with its results written, against one
+        /// factorisation and one solve per pull step (docs/performance.md); each size with the
+        /// constant-stiffness and newton schemes, condensed and on the full system.
+        #[arg(long)]
+        pullout: bool,
     },
     /// One benchmark measurement, in a process of its own (used by `bench`).
     #[command(hide = true)]
@@ -130,6 +140,13 @@ enum Command {
         ordering: Ordering,
         #[arg(long)]
         nonlinear: bool,
+        #[arg(long)]
+        pullout: bool,
+        /// constant-stiffness, newton or newton-symmetric
+        #[arg(long, default_value = "constant-stiffness")]
+        scheme: String,
+        #[arg(long)]
+        full_system: bool,
     },
 }
 
@@ -169,7 +186,16 @@ fn command_line() -> ExitCode {
             }
             ExitCode::SUCCESS
         }
-        Command::Bench { sizes, backends, repeats, orderings, nonlinear } => match if nonlinear {
+        Command::Bench { sizes, backends, repeats, orderings, nonlinear, pullout } => match if pullout {
+            let backend = backends.first().copied().unwrap_or(Backend::Auto);
+            let variants = [
+                (Scheme::ConstantStiffness, false),
+                (Scheme::ConstantStiffness, true),
+                (Scheme::Newton, false),
+                (Scheme::Newton, true),
+            ];
+            pullout_bench::bench_pullout(&sizes, backend, &variants)
+        } else if nonlinear {
             bench_nonlinear(&sizes, &backends, &orderings)
         } else {
             bench(&sizes, &backends, repeats, &orderings)
@@ -180,9 +206,17 @@ fn command_line() -> ExitCode {
                 ExitCode::from(exit::SOLVER)
             }
         },
-        Command::BenchOne { dofs, backend, ordering, nonlinear } => {
+        Command::BenchOne { dofs, backend, ordering, nonlinear, pullout, scheme, full_system } => {
             let backend = Backend::available().into_iter().find(|b| b.name() == backend);
             let line = match (nonlinear, backend) {
+                (_, Some(b)) if pullout => {
+                    let scheme = match scheme.as_str() {
+                        "newton" => Scheme::Newton,
+                        "newton-symmetric" => Scheme::NewtonSymmetric,
+                        _ => Scheme::ConstantStiffness,
+                    };
+                    serde_json::to_string(&pullout_bench::measure_pullout(dofs, b, scheme, !full_system))
+                }
                 (true, Some(b)) => serde_json::to_string(&measure::measure_nonlinear(dofs, b, ordering)),
                 _ => serde_json::to_string(&measure::measure(dofs, backend, ordering)),
             };
@@ -193,8 +227,9 @@ fn command_line() -> ExitCode {
         Command::Check { model, mesh, trust_geo } => {
             check(&model, mesh, LoadOptions { trust_geo, ..LoadOptions::default() })
         }
-        Command::Run { model, solver, out, ordering, out_of_core, memory_limit, trust_geo } => {
-            let options = SolverOptions { ordering, out_of_core, memory_limit_mb: memory_limit };
+        Command::Run { model, solver, out, ordering, out_of_core, memory_limit, trust_geo, full_system } => {
+            let options =
+                SolverOptions { ordering, out_of_core, memory_limit_mb: memory_limit, condense: !full_system };
             let load = LoadOptions { trust_geo, memory_limit_mb: memory_limit };
             match run(&model, load, solver, &options, out, Verbosity::of(&cli_flags)) {
                 Ok(()) => ExitCode::SUCCESS,

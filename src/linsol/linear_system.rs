@@ -41,6 +41,14 @@ pub struct SolverStats {
     /// The run's matrices are symmetric: MUMPS factorises them as LDLᵀ (SYM=2) instead of LU; the
     /// other backends use LU either way.
     pub symmetric: bool,
+    /// Condensed solves (the interface iteration): the dense LU factorisations of the interface
+    /// system, and the time in them and in the dense solves.
+    pub dense_factorizations: usize,
+    /// Changes of the interface system taken as low-rank updates of its last factorisation.
+    pub dense_updates: usize,
+    pub dense_seconds: f64,
+    /// Unknowns the condensed system kept (the interface's), when a run condensed its soil.
+    pub condensed_unknowns: Option<usize>,
 }
 
 /// A solver backend with the bookkeeping that lets it skip work: a new analysis only for a new

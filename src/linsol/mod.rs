@@ -3,12 +3,15 @@
 //! The symbolic analysis (`analyse`) is done once per sparsity pattern and reused; the numeric
 //! factorisation (`factorize`) once per set of values; `solve` once per right-hand side.
 
+pub mod condensed;
 pub mod csc;
 pub mod dense_ref;
+pub mod dense_update;
 pub mod faer_lu;
 pub mod linear_system;
 #[allow(unsafe_code)]
 pub mod native;
+pub mod schur;
 
 #[cfg(all(geoslip_mumps, feature = "mpi"))]
 pub use native::cluster;
@@ -122,11 +125,15 @@ pub struct SolverOptions {
     /// estimates above what is left of it (the limit less what the run already holds) stops before
     /// it starts.
     pub memory_limit_mb: Option<f64>,
+    /// Condense an elastic soil onto the interface's unknowns and iterate on the small system
+    /// (`analysis::condensation`; the default); `false`: the full system every iteration
+    /// (`--full-system`).
+    pub condense: bool,
 }
 
 impl Default for SolverOptions {
     fn default() -> Self {
-        SolverOptions { ordering: Ordering::Auto, out_of_core: false, memory_limit_mb: None }
+        SolverOptions { ordering: Ordering::Auto, out_of_core: false, memory_limit_mb: None, condense: true }
     }
 }
 
@@ -215,6 +222,19 @@ pub fn make(backend: Backend, symmetric: bool, options: &SolverOptions) -> Resul
         #[cfg(geoslip_umfpack)]
         Backend::Umfpack => Ok(Box::new(native::umfpack::Umfpack::default())),
         other => Err(unavailable(other)),
+    }
+}
+
+/// A condensing backend for `backend`: MUMPS's own Schur complement where MUMPS is built in (the
+/// sequential build), block elimination over the backend's factorisation otherwise.
+///
+/// # Errors
+/// The backend's own error when it cannot be started.
+pub fn make_condensing(backend: Backend, options: &SolverOptions) -> Result<Box<dyn schur::Condensing>, SolveError> {
+    match backend.resolve() {
+        #[cfg(all(geoslip_mumps, not(feature = "mpi")))]
+        Backend::Mumps => Ok(Box::new(native::mumps::Mumps::new(true, options)?)),
+        other => Ok(Box::new(schur::BlockElimination::new(make(other, false, options)?))),
     }
 }
 

@@ -65,6 +65,13 @@ pub struct Mumps {
     /// How many times a factorisation may be retried with a doubled ICNTL(14).
     workspace_retries: usize,
     pub info: FactorInfo,
+    /// The Schur variables (1-based; empty: no Schur complement), the complement MUMPS writes into
+    /// (ICNTL(19) = 1, row by row), the reduced right-hand side (ICNTL(26)) and the right-hand side
+    /// between condensation and expansion.
+    schur_list: Vec<i32>,
+    schur: Vec<f64>,
+    reduced_rhs: Vec<f64>,
+    condensed_rhs: Vec<f64>,
 }
 
 fn icntl(id: &mut ffi::DMUMPS_STRUC_C, i: usize, value: i32) {
@@ -104,6 +111,10 @@ impl Mumps {
             pivot_threshold: None,
             workspace_retries: WORKSPACE_RETRIES,
             info: FactorInfo::default(),
+            schur_list: Vec::new(),
+            schur: Vec::new(),
+            reduced_rhs: Vec::new(),
+            condensed_rhs: Vec::new(),
         };
         // Silence MUMPS's own printing from now on (JOB = −1 resets the controls to its defaults).
         mumps.set_controls();
@@ -159,6 +170,11 @@ impl Mumps {
         icntl(id, 14, self.workspace_percent);
         icntl(id, 22, i32::from(self.options.out_of_core)); // factors on disk
         icntl(id, 24, 1); // null-pivot detection
+        icntl(id, 19, i32::from(!self.schur_list.is_empty())); // Schur complement by rows
+        icntl(id, 26, 0);
+        id.size_schur = self.schur_list.len() as i32;
+        id.listvar_schur = if self.schur_list.is_empty() { std::ptr::null_mut() } else { self.schur_list.as_mut_ptr() };
+        id.schur = if self.schur.is_empty() { std::ptr::null_mut() } else { self.schur.as_mut_ptr() };
     }
 
     /// After the analysis: stop when the factorisation would need more memory than the run may use.
@@ -366,6 +382,83 @@ impl LinearSolver for Mumps {
 
     fn factor_memory_mb(&self) -> Option<f64> {
         self.factorized.then_some(self.info.memory_mb as f64)
+    }
+}
+
+impl Mumps {
+    /// JOB = 3 with ICNTL(26) = `phase` (1: condensation, 2: expansion) on the right-hand side
+    /// kept between the two and the reduced right-hand side.
+    fn reduced_solve(&mut self, phase: i32) -> Result<(), Failure> {
+        let id = &mut *self.id;
+        id.rhs = self.condensed_rhs.as_mut_ptr();
+        id.nrhs = 1;
+        id.lrhs = self.n as i32;
+        id.redrhs = self.reduced_rhs.as_mut_ptr();
+        id.lredrhs = self.schur_list.len() as i32;
+        icntl(id, 26, phase);
+        id.job = 3;
+        call(id, self.instance);
+        icntl(id, 26, 0);
+        id.rhs = std::ptr::null_mut();
+        let code = infog(id, 1);
+        if code < 0 {
+            return Err(Failure::Other(SolveError::mumps(Phase::Solution, code, infog(id, 2) as i64)));
+        }
+        Ok(())
+    }
+}
+
+impl crate::linsol::schur::Condensing for Mumps {
+    fn backend(&self) -> Backend {
+        Backend::Mumps
+    }
+
+    /// Analysis and factorisation with the kept unknowns as MUMPS's Schur variables (ICNTL(19) = 1):
+    /// MUMPS eliminates the interior and leaves S in the buffer given to it. A symmetric instance
+    /// fills the lower triangle (row i, columns ≤ i); the upper is mirrored from it here.
+    fn factorize_condensed(&mut self, matrix: &CscMatrix, kept: &[usize]) -> Result<Vec<f64>, Failure> {
+        let m = kept.len();
+        self.schur_list = kept.iter().map(|&e| e as i32 + 1).collect();
+        self.schur = vec![0.0; m * m];
+        self.reduced_rhs = vec![0.0; m];
+        self.analyse(matrix)?;
+        self.factorize(matrix)?;
+        let mut s = self.schur.clone();
+        if self.symmetric {
+            for i in 0..m {
+                for j in i + 1..m {
+                    s[i * m + j] = s[j * m + i];
+                }
+            }
+        }
+        Ok(s)
+    }
+
+    /// JOB = 3 with ICNTL(26) = 1: the forward elimination, leaving the reduced right-hand side.
+    fn condense(&mut self, rhs: &[f64]) -> Result<Vec<f64>, Failure> {
+        if !self.factorized || rhs.len() != self.n || self.schur_list.is_empty() {
+            return Err(backend_error("condense called without a Schur factorisation of this size".into()));
+        }
+        self.condensed_rhs = rhs.to_vec();
+        self.reduced_solve(1)?;
+        Ok(self.reduced_rhs.clone())
+    }
+
+    /// JOB = 3 with ICNTL(26) = 2: the backward substitution from the solution on the Schur
+    /// variables. Follows the condensation of the same right-hand side (MUMPS keeps its forward
+    /// elimination in between), so `rhs` is not read again.
+    fn expand(&mut self, rhs: &[f64], kept_solution: &[f64]) -> Result<Vec<f64>, Failure> {
+        let m = self.schur_list.len();
+        if self.condensed_rhs.len() != rhs.len() || kept_solution.len() != m {
+            return Err(backend_error("expand called without a condensation of this size".into()));
+        }
+        self.reduced_rhs.copy_from_slice(kept_solution);
+        self.reduced_solve(2)?;
+        let mut x = std::mem::take(&mut self.condensed_rhs);
+        for (&e, &v) in self.schur_list.iter().zip(kept_solution) {
+            x[e as usize - 1] = v;
+        }
+        Ok(x)
     }
 }
 

@@ -1,0 +1,242 @@
+//! The interface iteration: an iteration's system solved with the elastic soil condensed onto the
+//! interface's unknowns ([`crate::linsol::condensed`]).
+//!
+//! While the soil is elastic, only the interface changes from one iteration to the next: the
+//! springs' tangents, which rows hold, which segment each point faces. The soil is condensed onto
+//! the unknowns the interface can touch (the reinforcements' DOFs, every DOF of the nodes on a
+//! contact face's master path, every multiplier) once per stage; an iteration then costs one dense
+//! LU of that small system (when its matrix changed) and one condensation and expansion, whatever
+//! the scheme's tangent. The answer is the direct solve's, to its residual check.
+//!
+//! It falls back to the full system, automatically, where it does not apply: a soil element
+//! yielding (its tangent changes the soil part), a backend with no condensed path (the dense
+//! reference, which stays the independent check), an interior the soil alone cannot hold (the
+//! factorisation finds it singular), or more kept unknowns than a dense system should have.
+
+use super::state::State;
+use crate::assembly::{bar_force, ElementMatrices, SystemInputs};
+use crate::dofs::DofMap;
+use crate::linsol::condensed::CondensedSystem;
+use crate::linsol::csc::Triplets;
+use crate::linsol::linear_system::SolverStats;
+use crate::linsol::Failure;
+
+/// Largest number of kept unknowns condensed onto (the dense system's LU is O(m³)), and the
+/// largest share of all the unknowns they may be.
+pub const MAX_KEPT: usize = 4000;
+const MAX_KEPT_SHARE: f64 = 0.5;
+
+/// The unknowns an interface can touch: every multiplier; the DOFs of every bar; the DOFs of every
+/// master node and slave point of every contact face; any DOF no present soil element holds.
+/// Sorted equation numbers.
+pub fn kept_equations(elements: &ElementMatrices, dofs: &DofMap, state: &State) -> Vec<usize> {
+    let mut keep = vec![false; dofs.size()];
+    let mut mark = |d: usize| {
+        if let Some(e) = dofs.equation[d] {
+            keep[e] = true;
+        }
+    };
+    for b in 0..elements.bars.len() {
+        for &d in elements.bar_dofs(b) {
+            mark(d);
+        }
+    }
+    for face in state.interfaces.iter().flat_map(|i| &i.faces) {
+        for &n in face.master.iter().chain(face.points.iter().map(|p| &p.slave)) {
+            mark(2 * n);
+            mark(2 * n + 1);
+        }
+    }
+    let mut held_by_soil = vec![false; dofs.equation.len()];
+    let first_bar = elements.bars.first().map_or(elements.blocks.len(), |b| b.block);
+    for (b, (dl, _)) in elements.blocks[..first_bar].iter().enumerate() {
+        if state.soil.elements[b].active {
+            for &d in dl {
+                held_by_soil[d] = true;
+            }
+        }
+    }
+    for (d, held) in held_by_soil.iter().enumerate() {
+        if !held {
+            mark(d);
+        }
+    }
+    for k in 0..dofs.multipliers.len() {
+        keep[dofs.multiplier_equation(k)] = true;
+    }
+    keep.iter().enumerate().filter(|(_, &k)| k).map(|(e, _)| e).collect()
+}
+
+/// What a condensed solve gives back.
+pub enum Condensed {
+    /// The solution and its relative residual.
+    Solved(Vec<f64>, f64),
+    /// Not this iteration: solve the full system.
+    NotHere,
+}
+
+/// Solve an iteration's system condensed, when the run condenses (`condensed` is set) and this
+/// iteration allows it. `system`: the iteration's inputs; `key`: the fingerprint of its whole
+/// matrix. A backend error turns condensation off for the rest of the run, with a warning.
+#[allow(clippy::too_many_arguments)]
+pub fn solve(
+    condensed: &mut Option<CondensedSystem>,
+    stats: &mut SolverStats,
+    elements: &ElementMatrices,
+    dofs: &DofMap,
+    state: &State,
+    system: SystemInputs,
+    key: u64,
+    rhs: &[f64],
+) -> Condensed {
+    let Some(solver) = condensed.as_mut() else { return Condensed::NotHere };
+    if system.soil.trial.tangents.iter().any(Option::is_some) {
+        return Condensed::NotHere;
+    }
+    let kept = kept_equations(elements, dofs, state);
+    if kept.len() > MAX_KEPT || kept.len() as f64 > MAX_KEPT_SHARE * dofs.size() as f64 {
+        return Condensed::NotHere;
+    }
+    let t = std::time::Instant::now();
+    let change: Triplets = system.assemble_reinforcement_and_interface();
+    let soil_key = system.soil_fingerprint();
+    stats.assembly_seconds += t.elapsed().as_secs_f64();
+    if !CondensedSystem::fits(&kept, &change) {
+        return Condensed::NotHere;
+    }
+    stats.condensed_unknowns = Some(kept.len());
+    let soil = || system.assemble_soil();
+    match solver.solve(stats, dofs.size(), &kept, soil_key, &soil, key, &change, rhs) {
+        Ok((x, residual)) => Condensed::Solved(x, residual),
+        // the dense interface system, or a soil interior that the soil alone cannot hold: the full
+        // system's recoveries and diagnosis take over
+        Err(Failure::Singular { .. }) => Condensed::NotHere,
+        Err(Failure::Other(e)) => {
+            let warning =
+                format!("the interface iteration's condensed solve failed ({e}); the run goes on with the full system");
+            if !stats.warnings.contains(&warning) {
+                stats.warnings.push(warning);
+            }
+            *condensed = None;
+            Condensed::NotHere
+        }
+    }
+}
+
+/// One increment's interface iteration after a condensed solve of the whole system: the interior
+/// stays where that solve left it, in balance (the soil is linear and carries no interface force
+/// there), and each correction moves the kept unknowns alone. The soil's force on them is then its
+/// force at the start plus S·(their movement since); the interior follows at the end
+/// ([`Deferred::finish`]), with one condensation and one expansion.
+pub struct Deferred {
+    /// The soil part the condensation was made for.
+    soil_key: u64,
+    kept: Vec<usize>,
+    /// Each kept equation's DOF (`None`: a multiplier).
+    kept_dof: Vec<Option<usize>>,
+    /// The soil elements' force at every DOF when the interior was balanced.
+    soil_force: Vec<f64>,
+    /// The corrections of each kept unknown since.
+    moved: Vec<f64>,
+    /// The round-off floor of the residual then.
+    pub floor: f64,
+}
+
+impl Deferred {
+    /// Start from a balanced interior: `element_force` is the elements' part of the internal force
+    /// (soil and bars) at the current displacements; `floor` the residual's round-off floor there.
+    pub fn start(
+        condensed: &CondensedSystem,
+        elements: &ElementMatrices,
+        dofs: &DofMap,
+        state: &State,
+        element_force: &[f64],
+        floor: f64,
+    ) -> Option<Deferred> {
+        let (kept, soil_key) = condensed.condensed_on()?;
+        let mut dof_of = vec![None; dofs.size()];
+        for (d, e) in dofs.equation.iter().enumerate() {
+            if let Some(e) = e {
+                dof_of[*e] = Some(d);
+            }
+        }
+        let bars = bar_force(elements, &state.bars, &state.u);
+        Some(Deferred {
+            soil_key,
+            kept: kept.to_vec(),
+            kept_dof: kept.iter().map(|&e| dof_of[e]).collect(),
+            soil_force: element_force.iter().zip(&bars).map(|(f, b)| f - b).collect(),
+            moved: vec![0.0; kept.len()],
+            floor,
+        })
+    }
+
+    /// The elements' part of the internal force now: the soil's force at the start plus S·moved on
+    /// the kept DOFs (elsewhere as at the start), and the bars' at the current displacements.
+    pub fn element_force(&self, condensed: &CondensedSystem, elements: &ElementMatrices, state: &State) -> Vec<f64> {
+        let mut f = bar_force(elements, &state.bars, &state.u);
+        for (fi, s) in f.iter_mut().zip(&self.soil_force) {
+            *fi += s;
+        }
+        for (k, change) in condensed.schur_times(&self.moved).into_iter().enumerate() {
+            if let Some(d) = self.kept_dof[k] {
+                f[d] += change;
+            }
+        }
+        f
+    }
+
+    /// The interior follows the kept unknowns' movement: its DOFs in `state.u` get
+    /// −L_II⁻¹ L_IK·moved.
+    ///
+    /// # Errors
+    /// The backend's failure.
+    pub fn finish(
+        self,
+        condensed: &mut CondensedSystem,
+        stats: &mut SolverStats,
+        dofs: &DofMap,
+        state: &mut State,
+    ) -> Result<(), Failure> {
+        if self.moved.iter().all(|&v| v == 0.0) {
+            return Ok(());
+        }
+        let x = condensed.follow(stats, &self.moved)?;
+        let mut is_kept = vec![false; dofs.size()];
+        for &e in &self.kept {
+            is_kept[e] = true;
+        }
+        for (d, e) in dofs.equation.iter().enumerate() {
+            if let Some(e) = *e {
+                if !is_kept[e] {
+                    state.u[d] += x[e];
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// An iteration of the interface alone: the kept rows of `rhs` solved with S + C_KK. Returns the
+/// correction over all unknowns (zero in the interior) and its residual on the kept system; `None`
+/// when the kept system cannot be solved (the caller finishes the deferral and solves in full).
+pub fn solve_deferred(
+    condensed: &mut CondensedSystem,
+    stats: &mut SolverStats,
+    deferred: &mut Deferred,
+    system: SystemInputs,
+    key: u64,
+    rhs: &[f64],
+) -> Option<(Vec<f64>, f64)> {
+    let t = std::time::Instant::now();
+    let change = system.assemble_reinforcement_and_interface();
+    stats.assembly_seconds += t.elapsed().as_secs_f64();
+    let rhs_kept: Vec<f64> = deferred.kept.iter().map(|&e| rhs[e]).collect();
+    let (x_kept, residual) = condensed.solve_kept(stats, deferred.soil_key, key, &change, &rhs_kept).ok()?;
+    let mut x = vec![0.0; rhs.len()];
+    for ((&e, &v), moved) in deferred.kept.iter().zip(&x_kept).zip(deferred.moved.iter_mut()) {
+        x[e] = v;
+        *moved += v;
+    }
+    Some((x, residual))
+}

@@ -1,0 +1,269 @@
+//! `geoslip bench --pullout`: a whole pull-out run, results written, against the floor of one
+//! factorisation and one solve per pull step measured in the same process.
+//!
+//! The model: a 2 m × 1 m elastic soil block of square quad4 elements (E = 20 MPa, ν = 0.3), a
+//! reinforcement at mid-height from x = 0 to 1.6 m on the soil's nodes (EA = 500 kN/m), Coulomb
+//! faces (Ks = 2000 kPa/m, c = 0, φ = 30°) with σn frozen at the 20 kPa surcharge, the head pulled
+//! 20 mm in 40 steps of 0.5 mm. Each size runs in a child process of its own (`bench-one
+//! --pullout`), so that its peak memory is its own.
+
+use super::measure::peak_memory_mb;
+use crate::analysis::results::StepResults;
+use crate::analysis::{self, StepRecord, StepSink};
+use crate::linsol::csc::PatternCache;
+use crate::linsol::linear_system::{LinearSystem, SolverStats};
+use crate::linsol::{self, Backend};
+use crate::meshgen::PullOutBox;
+use crate::model::file::ShearLawSpec;
+use crate::model::{Model, Scheme};
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+use std::time::Instant;
+
+/// Pull steps of the benchmark run.
+pub const PULL_STEPS: usize = 40;
+
+/// The benchmark model with about `dofs` unknowns.
+pub fn pullout_box(dofs: usize, scheme: Scheme) -> Model {
+    // unknowns ≈ 2·(nx+1)·(2·ny_half+1) with nx = 2·(2·ny_half) for square elements in 2 m × 1 m
+    let ny_half = ((dofs as f64 / 16.0).sqrt().round() as usize).max(2);
+    let nx = 4 * ny_half;
+    let mut file = PullOutBox {
+        length: 2.0,
+        height: 1.0,
+        embedded: 1.6,
+        nx,
+        ny_half,
+        axial_stiffness: 500.0,
+        law: ShearLawSpec::Coulomb { shear_stiffness: 2000.0, cohesion: 0.0, friction_angle: 30.0 },
+        surcharge: 20.0,
+        pull: 0.02,
+        steps: PULL_STEPS,
+        ..PullOutBox::default()
+    }
+    .model();
+    file.analysis.freeze_normal_stress = true;
+    file.analysis.scheme = scheme;
+    Model::from_file(Path::new("generated-pullout-benchmark"), &file)
+        .expect("the generated pull-out benchmark is a valid model")
+}
+
+/// One run of the benchmark model.
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+pub struct PulloutMeasurement {
+    pub backend: String,
+    pub scheme: String,
+    pub condensed: bool,
+    pub unknowns: usize,
+    /// Unknowns the condensed system kept.
+    pub kept: Option<usize>,
+    pub wall_seconds: f64,
+    /// One factorisation and one solve of the run's first system, in this process (medians of 3).
+    pub factorize_seconds: f64,
+    pub solve_seconds: f64,
+    pub pull_steps: usize,
+    pub iterations: usize,
+    pub factorizations: usize,
+    pub dense_factorizations: usize,
+    pub solves: usize,
+    pub output_seconds: f64,
+    pub output_bytes: u64,
+    pub peak_memory_mb: f64,
+    /// The head force at the end of the pull [kN/m].
+    pub head_force: f64,
+    /// The run's own phase times [s]: assembly, interface, residual, solution check, sparse
+    /// factorisation, sparse solves, dense (condensed) factorisations and solves.
+    pub phases: [f64; 8],
+    pub error: Option<String>,
+}
+
+impl PulloutMeasurement {
+    /// Wall time over the floor: one factorisation and one solve per pull step.
+    pub fn floor_ratio(&self) -> f64 {
+        self.wall_seconds / (self.factorize_seconds + self.pull_steps as f64 * self.solve_seconds)
+    }
+}
+
+/// Keeps the pull steps' count and the last head force.
+struct Head {
+    nodes: Vec<u64>,
+    pull_steps: usize,
+    force: f64,
+}
+
+impl StepSink for Head {
+    fn step_done(&mut self, step: &StepResults, record: &StepRecord, _: &SolverStats) -> Result<(), crate::Error> {
+        if record.stage_index == 1 {
+            self.pull_steps += 1;
+            let head = step.reactions.iter().filter(|r| self.nodes.contains(&r.node));
+            self.force = head.filter_map(|r| r.rx).sum::<f64>().abs();
+        }
+        Ok(())
+    }
+}
+
+fn median3(mut v: [f64; 3]) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[1]
+}
+
+/// Run the benchmark model with about `dofs` unknowns, its results written into a temporary folder.
+pub fn measure_pullout(dofs: usize, backend: Backend, scheme: Scheme, condense: bool) -> PulloutMeasurement {
+    let model = pullout_box(dofs, scheme);
+    let mut m = PulloutMeasurement {
+        backend: backend.resolve().name().into(),
+        scheme: format!("{scheme:?}"),
+        condensed: condense,
+        ..PulloutMeasurement::default()
+    };
+    let out = match tempfile::tempdir() {
+        Ok(d) => d,
+        Err(e) => {
+            m.error = Some(e.to_string());
+            return m;
+        }
+    };
+    let options = analysis::RunOptions {
+        solver: linsol::SolverOptions { condense, ..linsol::SolverOptions::default() },
+        ..analysis::RunOptions::for_model(&model, backend)
+    };
+    let nodes = model.node_sets.get("grid.head").map(|set| set.iter().map(|&n| model.mesh.node_id(n)).collect());
+    let mut head = Head { nodes: nodes.unwrap_or_default(), pull_steps: 0, force: 0.0 };
+    let t = Instant::now();
+    let result = crate::output::ResultWriter::new(&model, out.path(), backend.name())
+        .and_then(|mut writer| crate::output::write_run(&model, &options, &mut writer, &mut head).map(|_| writer));
+    m.wall_seconds = t.elapsed().as_secs_f64();
+    m.pull_steps = head.pull_steps;
+    m.head_force = head.force;
+    match result {
+        Ok(writer) => {
+            let s = &writer.summary.solver_stats;
+            m.iterations = s.iterations;
+            m.factorizations = s.factorizations;
+            m.dense_factorizations = s.dense_factorizations;
+            m.solves = s.solves;
+            m.output_seconds = s.output_seconds;
+            m.kept = s.condensed_unknowns;
+            m.phases = [
+                s.assembly_seconds,
+                s.interface_seconds,
+                s.residual_seconds,
+                s.check_seconds,
+                s.factorize_seconds,
+                s.solve_seconds,
+                s.dense_seconds,
+                s.analyse_seconds,
+            ];
+        }
+        Err(e) => m.error = Some(e.to_string()),
+    }
+    m.output_bytes = folder_bytes(out.path());
+    drop(out);
+    // the floor, in this process: the first system factorised and solved three times each
+    let (n, system) = analysis::first_system(&model);
+    m.unknowns = n;
+    let matrix = PatternCache::default().assemble(n, &system.triplets).0;
+    match LinearSystem::new(backend, true, &linsol::SolverOptions::default()) {
+        Ok(mut ls) => {
+            let mut factorize = [0.0; 3];
+            let mut solve = [0.0; 3];
+            for k in 0..3 {
+                let mut values = system.triplets.clone();
+                // new values each time (the same matrix scaled), so that each is a factorisation
+                for v in &mut values.values {
+                    *v *= 1.0 + 1e-9 * (k + 1) as f64;
+                }
+                let t = Instant::now();
+                let _ = ls.solve(n, &values, &system.rhs, system.active);
+                factorize[k] = t.elapsed().as_secs_f64();
+                let t = Instant::now();
+                let _ = ls.solve_again(&system.rhs);
+                solve[k] = t.elapsed().as_secs_f64();
+            }
+            // a factorisation's time is the solve's call less its one solve
+            m.solve_seconds = median3(solve);
+            m.factorize_seconds = (median3(factorize) - m.solve_seconds).max(0.0);
+        }
+        Err(e) => m.error = Some(e.to_string()),
+    }
+    let _ = matrix;
+    m.peak_memory_mb = peak_memory_mb();
+    m
+}
+
+fn folder_bytes(dir: &Path) -> u64 {
+    let Ok(entries) = std::fs::read_dir(dir) else { return 0 };
+    entries
+        .flatten()
+        .map(|e| match e.file_type() {
+            Ok(t) if t.is_dir() => folder_bytes(&e.path()),
+            _ => e.metadata().map(|m| m.len()).unwrap_or(0),
+        })
+        .sum()
+}
+
+/// Each size and variant in a child process; one Markdown table.
+pub fn bench_pullout(sizes: &[usize], backend: Backend, variants: &[(Scheme, bool)]) -> Result<(), String> {
+    let exe = std::env::current_exe().map_err(|e| e.to_string())?;
+    let backend = backend.resolve();
+    linsol::check_available(backend).map_err(|e| e.to_string())?;
+    println!(
+        "geoslip {} — pull-out benchmark on {}: 2 m × 1 m elastic soil, 1.6 m reinforcement, {PULL_STEPS} pull steps of 0.5 mm, results written",
+        env!("CARGO_PKG_VERSION"),
+        backend.name()
+    );
+    println!();
+    println!("| unknowns | scheme | condensed (kept) | wall [s] | factorisation [s] | solve [s] | wall / (factorisation + {PULL_STEPS} solves) | iterations / step | factorisations | dense LUs | solves | output share | output [MB] | peak RSS [MiB] | head force [kN/m] |");
+    println!("|---:|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
+    for &size in sizes {
+        for &(scheme, condense) in variants {
+            let scheme_name = match scheme {
+                Scheme::ConstantStiffness => "constant-stiffness",
+                Scheme::Newton => "newton",
+                Scheme::NewtonSymmetric => "newton-symmetric",
+            };
+            let mut cmd = std::process::Command::new(&exe);
+            cmd.args(["bench-one", "--pullout", "--dofs", &size.to_string(), "--backend", backend.name()]);
+            cmd.args(["--scheme", scheme_name]);
+            if !condense {
+                cmd.arg("--full-system");
+            }
+            let out = cmd.output().map_err(|e| e.to_string())?;
+            let m: PulloutMeasurement = match serde_json::from_str(String::from_utf8_lossy(&out.stdout).trim()) {
+                Ok(m) => m,
+                Err(_) => {
+                    let why = String::from_utf8_lossy(&out.stderr);
+                    println!("| {size} | {scheme_name} | failed: {} |", why.lines().last().unwrap_or("no output"));
+                    continue;
+                }
+            };
+            if let Some(e) = &m.error {
+                println!("| {} | {scheme_name} | failed: {e} |", m.unknowns);
+                continue;
+            }
+            println!(
+                "| {} | {} | {} | {:.2} | {:.3} | {:.4} | {:.2} | {:.2} | {} | {} | {} | {:.0} % | {:.1} | {:.0} | {:.4} |",
+                m.unknowns,
+                scheme_name,
+                match (m.condensed, m.kept) {
+                    (true, Some(k)) => format!("yes ({k})"),
+                    (true, None) => "asked, not used".into(),
+                    _ => "no".into(),
+                },
+                m.wall_seconds,
+                m.factorize_seconds,
+                m.solve_seconds,
+                m.floor_ratio(),
+                m.iterations as f64 / (m.pull_steps.max(1) + 1) as f64,
+                m.factorizations,
+                m.dense_factorizations,
+                m.solves,
+                100.0 * m.output_seconds / m.wall_seconds,
+                m.output_bytes as f64 / 1e6,
+                m.peak_memory_mb,
+                m.head_force,
+            );
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,313 @@
+//! A system whose matrix is a fixed sparse part and a part that changes from one solve to the next
+//! but only among a few kept unknowns:
+//!
+//! ```text
+//! A = L + C,   C zero outside the kept rows and columns K
+//! ```
+//!
+//! L is condensed onto K once ([`super::schur`]: one sparse factorisation with the interior
+//! eliminated, S = L_KK − L_KI L_II⁻¹ L_IK); each new C costs one dense LU of S + C_KK (or a
+//! low-rank update of the last one, when few of its columns changed), and each
+//! right-hand side one condensation, one dense solve and one expansion. This is how an interface
+//! iteration gets Newton's tangent at the cost of solves: the soil is L, the interface's springs and
+//! rows are C.
+//!
+//! Every solution is checked against A itself (‖Ax − b‖/‖b‖, refined as [`super::linear_system`]
+//! does) so a condensed solve is never less accurate than a direct one.
+
+use super::csc::{CscMatrix, PatternCache, Triplets};
+use super::dense_update::UpdatedLu;
+use super::linear_system::SolverStats;
+use super::schur::Condensing;
+use super::{make_condensing, norm2, Backend, Failure, SolverOptions};
+use crate::error::SolveError;
+use faer::Mat;
+use std::time::Instant;
+
+/// The linear part as last condensed.
+struct LinearPart {
+    key: u64,
+    kept: Vec<usize>,
+    matrix: CscMatrix,
+    schur: Vec<f64>,
+}
+
+/// The dense LU of S + C_KK for one change part (updated, not refactorised, when few columns
+/// changed: [`UpdatedLu`]).
+struct DensePart {
+    key: u64,
+    lu: UpdatedLu,
+    /// The changing part the factorisation was made with: a key may stand for more than one set
+    /// of values (an iteration matrix kept while the rows' coefficients move), and every solution
+    /// is checked against the matrix it was solved with.
+    change: Triplets,
+}
+
+pub struct CondensedSystem {
+    condensing: Box<dyn Condensing>,
+    linear: Option<LinearPart>,
+    dense: Option<DensePart>,
+    /// Equation → index among the kept unknowns, for the current linear part.
+    position: Vec<Option<usize>>,
+    patterns: PatternCache,
+    /// The linear part whose condensation failed (not tried again).
+    failed: Option<(u64, Vec<usize>)>,
+}
+
+impl CondensedSystem {
+    /// A condensed system on `backend` (MUMPS's Schur complement, or block elimination on the
+    /// others).
+    ///
+    /// # Errors
+    /// The backend's error when it cannot be started.
+    pub fn new(backend: Backend, options: &SolverOptions) -> Result<Self, SolveError> {
+        Ok(CondensedSystem {
+            condensing: make_condensing(backend, options)?,
+            linear: None,
+            dense: None,
+            position: Vec::new(),
+            patterns: PatternCache::default(),
+            failed: None,
+        })
+    }
+
+    pub fn backend(&self) -> Backend {
+        self.condensing.backend()
+    }
+
+    /// The kept unknowns and the key of the linear part last condensed.
+    pub fn condensed_on(&self) -> Option<(&[usize], u64)> {
+        self.linear.as_ref().map(|l| (l.kept.as_slice(), l.key))
+    }
+
+    /// Whether every entry of `change` lies among `kept` (sorted equations).
+    pub fn fits(kept: &[usize], change: &Triplets) -> bool {
+        let inside = |e: &usize| kept.binary_search(e).is_ok();
+        change.rows.iter().all(inside) && change.cols.iter().all(inside)
+    }
+
+    /// Condense L when `linear_key` (or `kept`) is new, and factorise S + C_KK when `change_key`
+    /// is.
+    #[allow(clippy::too_many_arguments)]
+    fn prepare(
+        &mut self,
+        stats: &mut SolverStats,
+        n: usize,
+        kept: &[usize],
+        linear_key: u64,
+        linear: &dyn Fn() -> Triplets,
+        change_key: u64,
+        change: &Triplets,
+    ) -> Result<(), Failure> {
+        let current = self.linear.as_ref().is_some_and(|l| l.key == linear_key && l.kept == kept);
+        if !current {
+            if self.failed.as_ref().is_some_and(|(k, list)| *k == linear_key && list == kept) {
+                return Err(Failure::Singular { equations: Vec::new() });
+            }
+            self.linear = None;
+            self.dense = None;
+            let t = Instant::now();
+            let triplets = linear();
+            let (matrix, _) = self.patterns.assemble(n, &triplets);
+            stats.assembly_seconds += t.elapsed().as_secs_f64();
+            let t = Instant::now();
+            let schur = match self.condensing.factorize_condensed(&matrix, kept) {
+                Ok(s) => s,
+                Err(e) => {
+                    self.failed = Some((linear_key, kept.to_vec()));
+                    return Err(e);
+                }
+            };
+            stats.analyses += 1;
+            stats.factorizations += 1;
+            stats.factorize_seconds += t.elapsed().as_secs_f64();
+            self.position = vec![None; n];
+            for (k, &e) in kept.iter().enumerate() {
+                self.position[e] = Some(k);
+            }
+            self.linear = Some(LinearPart { key: linear_key, kept: kept.to_vec(), matrix, schur });
+        }
+        let m = kept.len();
+        if self.dense.as_ref().is_none_or(|d| d.key != change_key) {
+            let t = Instant::now();
+            let schur = &self.linear.as_ref().expect("set above").schur;
+            let mut a = Mat::from_fn(m, m, |i, j| schur[i * m + j]);
+            for ((&i, &j), &v) in change.rows.iter().zip(&change.cols).zip(&change.values) {
+                let (Some(i), Some(j)) = (self.position[i], self.position[j]) else {
+                    return Err(Failure::Other(SolveError::Backend {
+                        backend: self.condensing.backend().name(),
+                        message: format!("an entry ({i}, {j}) of the changing part lies outside the kept unknowns"),
+                    }));
+                };
+                a[(i, j)] += v;
+            }
+            match self.dense.as_mut() {
+                Some(dense) => {
+                    if dense.lu.set(a) {
+                        stats.dense_factorizations += 1;
+                    } else {
+                        stats.dense_updates += 1;
+                    }
+                    dense.key = change_key;
+                    dense.change = change.clone();
+                }
+                None => {
+                    self.dense = Some(DensePart { key: change_key, lu: UpdatedLu::new(a), change: change.clone() });
+                    stats.dense_factorizations += 1;
+                }
+            }
+            stats.dense_seconds += t.elapsed().as_secs_f64();
+        }
+        Ok(())
+    }
+
+    /// Solve (L + C) x = b. `linear` assembles L when `linear_key` (or `kept`) is new; `change_key`
+    /// names the iteration matrix: while it stays, the dense factorisation made with the C of its
+    /// first solve is reused (and x solves that matrix). Returns x and ‖Ax − b‖/‖b‖ for the matrix
+    /// solved with.
+    ///
+    /// # Errors
+    /// The backend's failure (a singular interior is [`Failure::Singular`] with no equations), or
+    /// [`Failure::Singular`] when the solution does not meet a relative residual of 1e-6.
+    #[allow(clippy::too_many_arguments)]
+    pub fn solve(
+        &mut self,
+        stats: &mut SolverStats,
+        n: usize,
+        kept: &[usize],
+        linear_key: u64,
+        linear: &dyn Fn() -> Triplets,
+        change_key: u64,
+        change: &Triplets,
+        rhs: &[f64],
+    ) -> Result<(Vec<f64>, f64), Failure> {
+        self.prepare(stats, n, kept, linear_key, linear, change_key, change)?;
+        let mut x = self.solve_once(stats, rhs)?;
+        let t = Instant::now();
+        let mut residual = self.relative_residual(&x, rhs);
+        for _ in 0..2 {
+            if !(residual > 1e-10) || !x.iter().all(|v| v.is_finite()) {
+                break;
+            }
+            let r = self.residual(&x, rhs);
+            let dx = self.solve_once(stats, &r)?;
+            let refined: Vec<f64> = x.iter().zip(&dx).map(|(a, b)| a + b).collect();
+            let refined_residual = self.relative_residual(&refined, rhs);
+            if refined_residual < residual {
+                x = refined;
+                residual = refined_residual;
+            } else {
+                break;
+            }
+        }
+        stats.check_seconds += t.elapsed().as_secs_f64();
+        if !x.iter().all(|v| v.is_finite()) || !(residual < 1e-6) {
+            return Err(Failure::Singular { equations: Vec::new() });
+        }
+        stats.max_relative_residual = stats.max_relative_residual.max(residual);
+        Ok((x, residual))
+    }
+
+    /// Solve (S + C_KK) x_K = r_K on the kept unknowns alone: an iteration whose interior is
+    /// already in balance, with L condensed for `linear_key` and the same `kept` as the last
+    /// [`CondensedSystem::solve`]. Returns x_K and its relative residual on the kept system.
+    ///
+    /// # Errors
+    /// [`Failure::Singular`] when the kept system's residual exceeds 1e-6, or when L is not the one
+    /// condensed.
+    pub fn solve_kept(
+        &mut self,
+        stats: &mut SolverStats,
+        linear_key: u64,
+        change_key: u64,
+        change: &Triplets,
+        rhs_kept: &[f64],
+    ) -> Result<(Vec<f64>, f64), Failure> {
+        let Some(linear) = self.linear.as_ref() else { return Err(Failure::Singular { equations: Vec::new() }) };
+        if linear.key != linear_key {
+            return Err(Failure::Singular { equations: Vec::new() });
+        }
+        let (n, kept) = (linear.matrix.pattern.n(), linear.kept.clone());
+        let none = || Triplets::default();
+        self.prepare(stats, n, &kept, linear_key, &none, change_key, change)?;
+        let t = Instant::now();
+        let dense = self.dense.as_ref().expect("prepared");
+        let m = rhs_kept.len();
+        let b = Mat::from_fn(m, 1, |i, _| rhs_kept[i]);
+        let y = dense.lu.solve(&b);
+        let r = &b - dense.lu.matrix() * &y;
+        let x: Vec<f64> = (0..m).map(|i| y[(i, 0)]).collect();
+        let (rn, bn) = (r.norm_l2(), b.norm_l2());
+        let residual = if bn > 0.0 { rn / bn } else { rn };
+        stats.dense_seconds += t.elapsed().as_secs_f64();
+        if !x.iter().all(|v| v.is_finite()) || !(residual < 1e-6) {
+            return Err(Failure::Singular { equations: Vec::new() });
+        }
+        stats.max_relative_residual = stats.max_relative_residual.max(residual);
+        Ok((x, residual))
+    }
+
+    /// S·v on the kept unknowns: the change of the soil's force there when the kept unknowns move
+    /// by v and the interior follows in balance.
+    pub fn schur_times(&self, v: &[f64]) -> Vec<f64> {
+        let Some(linear) = self.linear.as_ref() else { return vec![0.0; v.len()] };
+        let m = v.len();
+        (0..m).map(|i| linear.schur[i * m..(i + 1) * m].iter().zip(v).map(|(a, b)| a * b).sum()).collect()
+    }
+
+    /// The whole correction when the kept unknowns moved by `moved` with the interior following in
+    /// balance: x_I = −L_II⁻¹ L_IK·moved, x_K = moved. One condensation of nothing and one
+    /// expansion.
+    ///
+    /// # Errors
+    /// The backend's failure.
+    pub fn follow(&mut self, stats: &mut SolverStats, moved: &[f64]) -> Result<Vec<f64>, Failure> {
+        let Some(linear) = self.linear.as_ref() else { return Err(Failure::Singular { equations: Vec::new() }) };
+        let zero = vec![0.0; linear.matrix.pattern.n()];
+        let t = Instant::now();
+        self.condensing.condense(&zero)?;
+        let x = self.condensing.expand(&zero, moved)?;
+        stats.solve_seconds += t.elapsed().as_secs_f64();
+        stats.solves += 1;
+        Ok(x)
+    }
+
+    /// Condense, solve densely, expand.
+    fn solve_once(&mut self, stats: &mut SolverStats, rhs: &[f64]) -> Result<Vec<f64>, Failure> {
+        let t = Instant::now();
+        let reduced = self.condensing.condense(rhs)?;
+        stats.solve_seconds += t.elapsed().as_secs_f64();
+        let t = Instant::now();
+        let m = reduced.len();
+        let b = Mat::from_fn(m, 1, |i, _| reduced[i]);
+        let y = self.dense.as_ref().expect("factorised before").lu.solve(&b);
+        let kept_solution: Vec<f64> = (0..m).map(|i| y[(i, 0)]).collect();
+        stats.dense_seconds += t.elapsed().as_secs_f64();
+        let t = Instant::now();
+        let x = self.condensing.expand(rhs, &kept_solution)?;
+        stats.solve_seconds += t.elapsed().as_secs_f64();
+        stats.solves += 1;
+        Ok(x)
+    }
+
+    /// b − (L + C) x.
+    fn residual(&self, x: &[f64], rhs: &[f64]) -> Vec<f64> {
+        let linear = self.linear.as_ref().expect("set before a solve");
+        let change = &self.dense.as_ref().expect("factorised before a solve").change;
+        let mut ax = linear.matrix.mul_vec(x);
+        for ((&i, &j), &v) in change.rows.iter().zip(&change.cols).zip(&change.values) {
+            ax[i] += v * x[j];
+        }
+        rhs.iter().zip(&ax).map(|(b, a)| b - a).collect()
+    }
+
+    fn relative_residual(&self, x: &[f64], rhs: &[f64]) -> f64 {
+        let r = norm2(&self.residual(x, rhs));
+        let b = norm2(rhs);
+        if b > 0.0 {
+            r / b
+        } else {
+            r
+        }
+    }
+}
