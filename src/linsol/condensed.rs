@@ -49,7 +49,6 @@ pub struct CondensedSystem {
     dense: Option<DensePart>,
     /// Equation → index among the kept unknowns, for the current linear part.
     position: Vec<Option<usize>>,
-    patterns: PatternCache,
     /// The linear part whose condensation failed (not tried again).
     failed: Option<(u64, Vec<usize>)>,
 }
@@ -66,7 +65,6 @@ impl CondensedSystem {
             linear: None,
             dense: None,
             position: Vec::new(),
-            patterns: PatternCache::default(),
             failed: None,
         })
     }
@@ -108,7 +106,9 @@ impl CondensedSystem {
             self.dense = None;
             let t = Instant::now();
             let triplets = linear();
-            let (matrix, _) = self.patterns.assemble(n, &triplets);
+            // a pattern cache would keep its refill map for the next soil, which comes seldom
+            let (matrix, _) = PatternCache::default().assemble(n, &triplets);
+            drop(triplets);
             stats.assembly_seconds += t.elapsed().as_secs_f64();
             let t = Instant::now();
             let schur = match self.condensing.factorize_condensed(&matrix, kept) {

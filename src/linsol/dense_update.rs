@@ -27,22 +27,23 @@ struct LowRank {
 }
 
 pub struct UpdatedLu {
+    /// M₀, the matrix factorised.
     base: Mat<f64>,
     lu: PartialPivLu<f64>,
-    matrix: Mat<f64>,
-    update: Option<LowRank>,
+    /// The matrix now represented and its update, when it is not M₀.
+    update: Option<(Mat<f64>, LowRank)>,
 }
 
 impl UpdatedLu {
     /// Factorise `matrix`.
     pub fn new(matrix: Mat<f64>) -> UpdatedLu {
         let lu = matrix.partial_piv_lu();
-        UpdatedLu { base: matrix.clone(), lu, matrix, update: None }
+        UpdatedLu { base: matrix, lu, update: None }
     }
 
     /// The matrix now represented.
     pub fn matrix(&self) -> &Mat<f64> {
-        &self.matrix
+        self.update.as_ref().map_or(&self.base, |(m, _)| m)
     }
 
     /// Represent `matrix` instead: by a low-rank update of the base factorisation where few columns
@@ -62,16 +63,15 @@ impl UpdatedLu {
             let w = self.lu.solve(&d);
             let r = columns.len();
             let cap = Mat::from_fn(r, r, |a, b| w[(columns[a], b)] + if a == b { 1.0 } else { 0.0 });
-            Some(LowRank { capacitance: cap.partial_piv_lu(), columns, w })
+            Some((matrix, LowRank { capacitance: cap.partial_piv_lu(), columns, w }))
         };
-        self.matrix = matrix;
         false
     }
 
     /// M⁻¹ b for the matrix now represented.
     pub fn solve(&self, b: &Mat<f64>) -> Mat<f64> {
         let y = self.lu.solve(b);
-        let Some(u) = &self.update else { return y };
+        let Some((_, u)) = &self.update else { return y };
         let y_j = Mat::from_fn(u.columns.len(), b.ncols(), |a, c| y[(u.columns[a], c)]);
         let z = u.capacitance.solve(&y_j);
         &y - &u.w * &z

@@ -423,7 +423,9 @@ impl crate::linsol::schur::Condensing for Mumps {
         self.reduced_rhs = vec![0.0; m];
         self.analyse(matrix)?;
         self.factorize(matrix)?;
-        let mut s = self.schur.clone();
+        // MUMPS has written the complement: the buffer is handed over (a new one is made for the
+        // next factorisation)
+        let mut s = std::mem::take(&mut self.schur);
         if self.symmetric {
             for i in 0..m {
                 for j in i + 1..m {
