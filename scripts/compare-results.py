@@ -9,7 +9,9 @@ For every `summary.json` under BEFORE it compares, against the same file under A
 - per step: the load and strength factors, the iteration and cutback counts, the force residual,
   the state changes, the re-associations and the reinforcement force balance;
 - the solver's counts (analyses, factorisations, solves, equilibrium iterations);
-and every CSV file beside it (history.csv and each step's tables) value by value.
+and every CSV file beside it (history.csv, and each step's tables when the runs wrote them with
+`geoslip run --csv`) value by value, and every dataset of `results.h5` (a build with the `hdf5`
+feature; read with h5py, Debian's python3-h5py) value by value.
 
 A number is "identical" when its text is the same; otherwise the relative difference
 |a − b| / max(|a|, |b|, 1e-300) must stay below the tolerance. Timings are not compared. Prints one
@@ -124,6 +126,32 @@ def compare_csv(tally, where, a_path, b_path):
                 tally.failures.append(f"{where} row {i} column {j}: {p!r} against {q!r}")
 
 
+def compare_h5(tally, where, a_path, b_path):
+    """Every dataset of one results.h5 against the same dataset of the other."""
+    try:
+        import h5py
+        import numpy as np
+    except ImportError:
+        tally.failures.append(f"{where}: cannot compare without h5py (install python3-h5py)")
+        return
+    with h5py.File(a_path, "r") as fa, h5py.File(b_path, "r") as fb:
+        names = []
+        fa.visititems(lambda name, obj: names.append(name) if isinstance(obj, h5py.Dataset) else None)
+        for name in sorted(names):
+            if name not in fb:
+                tally.failures.append(f"{where}:{name}: missing after")
+                continue
+            x, y = fa[name][()], fb[name][()]
+            if x.shape != y.shape:
+                tally.failures.append(f"{where}:{name}: shape {x.shape} against {y.shape}")
+                continue
+            x, y = np.ravel(x), np.ravel(y)
+            same = (x == y) | (np.isnan(x) & np.isnan(y)) if x.dtype.kind == "f" else x == y
+            tally.identical += int(np.count_nonzero(same))
+            for i in np.flatnonzero(~same):
+                tally.number(f"{where}:{name}[{i}]", float(x[i]), float(y[i]))
+
+
 def compare_run(before, after, folder, tolerance):
     tally = Tally(tolerance)
     with open(os.path.join(before, folder, "summary.json")) as f:
@@ -145,13 +173,15 @@ def compare_run(before, after, folder, tolerance):
         tally.value(f"solver_stats.{key}", a["solver_stats"].get(key), b["solver_stats"].get(key))
     for root, _, files in os.walk(os.path.join(before, folder)):
         for name in sorted(files):
-            if name.endswith(".csv"):
+            if name.endswith(".csv") or name == "results.h5":
                 rel = os.path.relpath(os.path.join(root, name), before)
                 other = os.path.join(after, rel)
                 if not os.path.exists(other):
                     tally.failures.append(f"{rel}: missing after")
-                else:
+                elif name.endswith(".csv"):
                     compare_csv(tally, rel, os.path.join(root, name), other)
+                else:
+                    compare_h5(tally, rel, os.path.join(root, name), other)
     return tally
 
 

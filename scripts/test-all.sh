@@ -2,19 +2,22 @@
 # The whole test suite, with every solver backend.
 #
 # On Debian 12 as root it first installs what the native backends need (MUMPS sequential, UMFPACK,
-# libclang for bindgen, OpenBLAS as the BLAS alternative), and what the tests run beside geoslip:
-# Gmsh (meshes the examples' .geo files) and VTK's Python module (reads the ParaView output back).
-# and MUMPS's MPI build with OpenMPI. It then tests
-#   1. the full build, which must have MUMPS and UMFPACK when the packages are installed,
+# libclang for bindgen, OpenBLAS as the BLAS alternative), libhdf5 for the HDF5 results, MUMPS's MPI
+# build with OpenMPI, and what the tests run beside geoslip: Gmsh (meshes the examples' .geo
+# files), VTK's Python module (reads the .vtu output back), h5py and meshio (read results.h5 and
+# results.xdmf back). It then tests
+#   1. the full build (with the hdf5 feature), which must have MUMPS and UMFPACK when the packages
+#      are installed,
 #   2. the MPI build (--features mpi, in target/mpi): mpirun -np 2 against the sequential run, and
-#   3. a build with no native libraries (GEOSLIP_NO_NATIVE=1), which runs on faer and dense.
+#   3. a build with no native libraries (GEOSLIP_NO_NATIVE=1) and without the hdf5 feature, which
+#      runs on faer and dense and writes .vtu files.
 # It first checks the code's layout (scripts/check-imports.py).
 # This is the command the README gives and the one CI runs (.ci/run).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-packages=(libmumps-seq-dev libsuitesparse-dev libclang-dev libopenblas0-pthread libmumps-dev libopenmpi-dev openmpi-bin)
-tools=(gmsh python3-vtk9)
+packages=(libmumps-seq-dev libsuitesparse-dev libclang-dev libopenblas0-pthread libmumps-dev libopenmpi-dev openmpi-bin libhdf5-dev)
+tools=(gmsh python3-vtk9 python3-h5py python3-meshio)
 native_expected=0
 if [ -r /etc/debian_version ] && command -v apt-get >/dev/null 2>&1; then
   missing=()
@@ -36,20 +39,30 @@ if [ -r /etc/debian_version ] && command -v apt-get >/dev/null 2>&1; then
   done
 fi
 
+# the HDF5 results need libhdf5: with it the full build has the hdf5 feature (and its tests run);
+# without it (not root, or not Debian) the full build is tested without the feature
+features=()
+if { [ -r /etc/debian_version ] && dpkg-query -W -f='${Status}' libhdf5-dev 2>/dev/null | grep -q "install ok installed"; } \
+   || pkg-config --exists hdf5 2>/dev/null; then
+  features=(--features hdf5)
+else
+  echo "== libhdf5 is not installed: the full build is tested without the hdf5 feature"
+fi
+
 echo "== layout: no import circle, no core module on the file format"
 python3 scripts/check-imports.py
 
 echo "== full build: backends"
-cargo build --locked --quiet
-backends=$(cargo run --locked --quiet -- backends | tr '\n' ' ')
+cargo build --locked --quiet "${features[@]}"
+backends=$(cargo run --locked --quiet "${features[@]}" -- backends | tr '\n' ' ')
 echo "   $backends"
 if [ "$native_expected" = 1 ]; then
   for b in mumps umfpack; do
     case " $backends " in *" $b "*) ;; *) echo "error: $b was not built although its packages are installed"; exit 1 ;; esac
   done
 fi
-echo "== full build: tests"
-cargo test --workspace --locked
+echo "== full build: tests${features[*]:+ (${features[*]})}"
+cargo test --workspace --locked "${features[@]}"
 
 if command -v mpirun >/dev/null 2>&1 && [ -e /usr/lib/x86_64-linux-gnu/libdmumps.so ]; then
   echo "== MPI build: mpirun -np 2 against the sequential run (target/debug/geoslip)"
@@ -61,6 +74,6 @@ else
   echo "== MPI build: skipped (needs libmumps-dev, libopenmpi-dev and openmpi-bin)"
 fi
 
-echo "== build without native libraries: tests"
+echo "== build without native libraries and without HDF5: tests"
 GEOSLIP_NO_NATIVE=1 cargo test --workspace --locked
 echo "== all tests passed ($backends, and faer/dense alone)"

@@ -25,7 +25,8 @@ fn run_writes_every_result_file_with_units_in_the_headers() {
     solvers.extend(backends.iter().cloned());
     for solver in solvers.iter().map(String::as_str) {
         let dir = out.path().join(solver);
-        let status = geoslip().args(["run", "--solver", solver, "--out"]).arg(&dir).arg(example()).status().unwrap();
+        let status =
+            geoslip().args(["run", "--csv", "--solver", solver, "--out"]).arg(&dir).arg(example()).status().unwrap();
         assert!(status.success(), "geoslip run --solver {solver} failed");
         let summary: serde_json::Value =
             serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();

@@ -13,7 +13,10 @@
 //! to completion. What each killed run left holds whole steps only (each step folder it left has
 //! every file of that step, byte for byte as the clean run wrote it); after the run that follows,
 //! the folder holds exactly the clean run's files, no `.partial-*` or other hidden file, the same
-//! steps, and the same history.csv and summary.json (but for the timings).
+//! steps, and the same history.csv and summary.json (but for the timings). In a build with HDF5,
+//! every step that the `results.xdmf` a killed run left lists is whole in its `results.h5` (read
+//! by h5py), value for value the clean run's: `results.h5` is written in place, and only the
+//! index, rewritten atomically after each flush, says which steps are complete.
 //!
 //! ```text
 //!        q = 50 kPa
@@ -24,6 +27,8 @@
 //!   └────┴────┴────┴────┘
 //!   ▲▲▲▲▲▲▲▲▲▲▲▲▲▲▲▲▲▲▲▲▲  fixed base; front and back walls fixed in x; 0.4 m long
 //! ```
+
+mod common;
 
 use proptest::prelude::Rng;
 use proptest::test_runner::{RngAlgorithm, TestRng};
@@ -41,94 +46,12 @@ fn geoslip() -> Command {
     c
 }
 
-/// The pull-out box: 4 × 2 quad4 elements, 0.4 m × 0.2 m, a geogrid at mid-height over 0.3 m.
+/// The pull-out box (`common::small_pullout_box`) with a Coulomb interface.
 fn pullout_box() -> String {
-    let (nx, ny) = (4, 2);
-    let id = |i: usize, j: usize| 1 + j * (nx + 1) + i;
-    let mut nodes = Vec::new();
-    for j in 0..=ny {
-        for i in 0..=nx {
-            nodes.push(format!("[{}, {:.1}, {:.1}]", id(i, j), 0.1 * i as f64, 0.1 * j as f64));
-        }
-    }
-    let mut elements = Vec::new();
-    for j in 0..ny {
-        for i in 0..nx {
-            elements.push(format!(
-                "{{ id = {}, type = \"quad4\", nodes = [{}, {}, {}, {}], material = \"sand\" }}",
-                elements.len() + 1,
-                id(i, j),
-                id(i + 1, j),
-                id(i + 1, j + 1),
-                id(i, j + 1)
-            ));
-        }
-    }
-    let list = |ids: Vec<usize>| ids.iter().map(usize::to_string).collect::<Vec<_>>().join(", ");
-    let factors: Vec<String> = (1..=PULL_STEPS).map(|k| format!("{}", k as f64 / PULL_STEPS as f64)).collect();
-    format!(
-        r#"title = "pull-out box, killed and run again"
-nodes = [{nodes}]
-elements = [{elements}]
-
-[units]
-length = "m"
-force = "kN"
-
-[materials.soil.sand]
-youngs_modulus = 20000.0
-poissons_ratio = 0.3
-unit_weight = 18.0
-
-[materials.reinforcement.grid]
-axial_stiffness = 1000.0
-tension_only = true
-
-[node_sets]
-base = [{base}]
-front = [{front}]
-back = [{back}]
-
-[edge_sets]
-top = [{top}]
-
-[[supports]]
-set = "base"
-fix = ["x", "y"]
-
-[[supports]]
-set = "front"
-fix = ["x"]
-
-[[supports]]
-set = "back"
-fix = ["x"]
-
-[[interfaces]]
-name = "grid"
-reinforcement = {{ path = [{path}], material = "grid" }}
-law = {{ type = "coulomb", shear_stiffness = 5000.0, cohesion = 0.0, friction_angle = 30.0 }}
-
-[[stages]]
-name = "surcharge"
-loads = [{{ type = "edge-traction", edge_set = "top", pressure = 50.0 }}]
-
-[[stages]]
-name = "pull-out"
-load_factors = [{factors}]
-prescribed = [{{ set = "grid.head", ux = -0.05 }}]
-
-[analysis]
-scheme = "newton"
-"#,
-        nodes = nodes.join(", "),
-        elements = elements.join(",\n  "),
-        base = list((0..=nx).map(|i| id(i, 0)).collect()),
-        front = list((0..=ny).map(|j| id(0, j)).collect()),
-        back = list((0..=ny).map(|j| id(nx, j)).collect()),
-        top = (0..nx).map(|i| format!("[{}, {}]", id(i, ny), id(i + 1, ny))).collect::<Vec<_>>().join(", "),
-        path = list((0..nx).map(|i| id(i, 1)).collect()),
-        factors = factors.join(", "),
+    common::small_pullout_box(
+        "pull-out box, killed and run again",
+        r#"{ type = "coulomb", shear_stiffness = 5000.0, cohesion = 0.0, friction_angle = 30.0 }"#,
+        PULL_STEPS,
     )
 }
 
@@ -170,7 +93,8 @@ fn step_folders(out: &Path) -> BTreeMap<PathBuf, Vec<PathBuf>> {
 
 fn run_to_completion(model: &Path, out: &Path) -> Duration {
     let started = Instant::now();
-    let status = geoslip().args(["run", "-q", "--solver", "faer", "--out"]).arg(out).arg(model).status().unwrap();
+    let status =
+        geoslip().args(["run", "-q", "--csv", "--solver", "faer", "--out"]).arg(out).arg(model).status().unwrap();
     assert!(status.success(), "a run into {} failed: {status}", out.display());
     started.elapsed()
 }
@@ -242,7 +166,8 @@ fn assert_same_json(a: &serde_json::Value, b: &serde_json::Value, at: &str) {
 /// Start a run of `model` into `out` and SIGKILL it `moment` after it started; whether it had
 /// finished by then.
 fn run_killed_at(model: &Path, out: &Path, moment: Duration) -> bool {
-    let mut child = geoslip().args(["run", "-q", "--solver", "faer", "--out"]).arg(out).arg(model).spawn().unwrap();
+    let mut child =
+        geoslip().args(["run", "-q", "--csv", "--solver", "faer", "--out"]).arg(out).arg(model).spawn().unwrap();
     std::thread::sleep(moment);
     let finished = child.try_wait().unwrap().is_some_and(|s| s.success());
     let _ = child.kill();
@@ -265,6 +190,45 @@ fn assert_whole_steps(out: &Path, clean: &Path, clean_steps: &BTreeMap<PathBuf, 
         }
     }
     left.len()
+}
+
+/// In a build with HDF5: what `results.xdmf` in `out` lists (if a killed run left one) is whole in
+/// `results.h5`, read back by h5py (the HDF5 library's own Python binding), each array of the shape
+/// the index gives and value for value the clean run's. Returns how many steps it lists.
+#[cfg(feature = "hdf5")]
+fn assert_listed_steps_whole(out: &Path, clean: &Path, what: &str) -> usize {
+    const READER: &str = r#"
+import os, sys
+import xml.etree.ElementTree as ET
+import h5py, numpy as np
+out, clean = sys.argv[1], sys.argv[2]
+index = os.path.join(out, "results.xdmf")
+if not os.path.exists(index):
+    print(0)
+    sys.exit(0)
+root = ET.parse(index).getroot()
+with h5py.File(os.path.join(out, "results.h5"), "r") as f, h5py.File(os.path.join(clean, "results.h5"), "r") as g:
+    for item in root.iter("DataItem"):
+        name, path = item.text.strip().split(":")
+        assert name == "results.h5", name
+        dims = [int(d) for d in item.get("Dimensions").split()]
+        a = f[path][()]
+        assert list(a.shape) == dims, (path, a.shape, dims)
+        assert np.array_equal(a, g[path][()]), path
+print(len({t.get("Value") for t in root.iter("Time")}))
+"#;
+    let read = Command::new("/usr/bin/python3")
+        .args(["-c", READER])
+        .arg(out)
+        .arg(clean)
+        .output()
+        .unwrap_or_else(|e| panic!("cannot run /usr/bin/python3 ({e}): install python3-h5py"));
+    assert!(
+        read.status.success(),
+        "{what}: the steps results.xdmf lists are not whole in results.h5: {}",
+        String::from_utf8_lossy(&read.stderr)
+    );
+    String::from_utf8_lossy(&read.stdout).trim().parse().unwrap()
 }
 
 /// The model written to a fresh folder, and its clean run there: (folder, model, clean output, its
@@ -302,6 +266,8 @@ fn a_run_killed_at_ten_moments_leaves_whole_steps_and_the_next_run_leaves_the_cl
         // what the killed run left: each step folder there is whole, as the clean run wrote it
         let what = format!("kill {k} at {moment:?}");
         let whole = assert_whole_steps(&out, &clean, &clean_steps, &what);
+        #[cfg(feature = "hdf5")]
+        println!("kill {k}: results.xdmf lists {} whole steps", assert_listed_steps_whole(&out, &clean, &what));
         let partial = files_below(&out)
             .iter()
             .filter(|f| f.file_name().is_some_and(|n| n.to_string_lossy().starts_with(".partial-")))
@@ -340,6 +306,8 @@ fn a_run_killed_while_it_removes_an_earlier_run_leaves_whole_steps() {
         run_to_completion(&model, &out);
         run_killed_at(&model, &out, moment);
         let whole = assert_whole_steps(&out, &clean, &clean_steps, &format!("kill {k} at {moment:?}"));
+        #[cfg(feature = "hdf5")]
+        assert_listed_steps_whole(&out, &clean, &format!("kill {k} at {moment:?}"));
         println!("kill {k} at {:>5.1} ms: {whole} whole steps left", moment.as_secs_f64() * 1e3);
     }
 }

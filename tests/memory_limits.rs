@@ -75,7 +75,9 @@ fn out_of_core_gives_the_in_core_answers() {
     let (in_core, ooc) = (dir.path().join("in-core"), dir.path().join("ooc"));
     for (folder, extra) in [(&in_core, None), (&ooc, Some("--out-of-core"))] {
         let mut cmd = geoslip();
-        cmd.args(["run", "-q", "--solver", "mumps", "--out"]).arg(folder).arg(example("annotated-pullout.toml"));
+        cmd.args(["run", "-q", "--csv", "--solver", "mumps", "--out"])
+            .arg(folder)
+            .arg(example("annotated-pullout.toml"));
         if let Some(flag) = extra {
             cmd.arg(flag).env("MUMPS_OOC_TMPDIR", dir.path());
         }

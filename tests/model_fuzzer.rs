@@ -1116,7 +1116,8 @@ fn run_case(seeds: &[Seed], seed: u64, case: usize) -> Outcome {
     let (ended, check_err) = run_limited(check, &logs, "check");
     let check_code = judge("geoslip check", &ended, &check_err, &mut failures);
     let mut run = Command::new(&exe);
-    run.current_dir(&work).args(["run", file_name, "--out", "out", "-q", "--solver", solver]);
+    // with the step folders, whose names come from the (mutated) stage names
+    run.current_dir(&work).args(["run", file_name, "--out", "out", "-q", "--csv", "--solver", solver]);
     let (ended, run_err) = run_limited(run, &logs, "run");
     let run_code = judge("geoslip run", &ended, &run_err, &mut failures);
 

@@ -41,7 +41,7 @@ fn mpirun(ranks: usize, model: &Path, out: &Path) {
         .env("OMPI_ALLOW_RUN_AS_ROOT", "1")
         .env("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
         .arg(env!("CARGO_BIN_EXE_geoslip-mpi"))
-        .args(["run", "-q", "--solver", "mumps", "--out"])
+        .args(["run", "-q", "--csv", "--solver", "mumps", "--out"])
         .arg(out)
         .arg(model)
         .output()
@@ -56,7 +56,7 @@ fn mpirun(ranks: usize, model: &Path, out: &Path) {
 
 fn sequential_run(model: &Path, out: &Path) {
     let run = Command::new(sequential())
-        .args(["run", "-q", "--solver", "mumps", "--ordering", "pord", "--out"])
+        .args(["run", "-q", "--csv", "--solver", "mumps", "--ordering", "pord", "--out"])
         .arg(out)
         .arg(model)
         .output()

@@ -208,7 +208,7 @@ fn a_run_leaves_whole_steps_over_what_a_killed_run_left() {
     std::fs::write(out.join(".partial-summary.json.x1"), "half").unwrap();
     std::fs::write(stage.join(".partial-step-001").join("displacements.csv"), "half").unwrap();
     std::fs::write(stage.join("step-001").join("stale.csv"), "an earlier run").unwrap();
-    let status = geoslip().args(["run", "-q", "--out"]).arg(&out).arg(&model).status().unwrap();
+    let status = geoslip().args(["run", "-q", "--csv", "--out"]).arg(&out).arg(&model).status().unwrap();
     assert!(status.success());
     let left: Vec<PathBuf> = files_below(&out);
     assert!(left.iter().all(|f| !f.to_string_lossy().contains(".partial-")), "{left:?}");
@@ -217,7 +217,7 @@ fn a_run_leaves_whole_steps_over_what_a_killed_run_left() {
     // a second run into the same folder, of a model with other stages, leaves nothing of the first
     let renamed = block("q", &[]).replace("name = \"load\"", "name = \"surcharge\"");
     std::fs::write(&model, renamed).unwrap();
-    let status = geoslip().args(["run", "-q", "--out"]).arg(&out).arg(&model).status().unwrap();
+    let status = geoslip().args(["run", "-q", "--csv", "--out"]).arg(&out).arg(&model).status().unwrap();
     assert!(status.success());
     assert!(!stage.exists(), "the first run's stage folder stayed");
     assert!(out.join("stage-1-surcharge").join("step-001").join("displacements.csv").exists());

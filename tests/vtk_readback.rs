@@ -73,7 +73,7 @@ fn vtk_reads_back_every_step_and_the_fields_match_the_csv_files() {
     let out = tempfile::tempdir().unwrap();
     let model = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/annotated-pullout.toml");
     let status = Command::new(env!("CARGO_BIN_EXE_geoslip"))
-        .args(["run", "-q", "--solver", "dense", "--out"])
+        .args(["run", "-q", "--csv", "--vtu", "--solver", "dense", "--out"])
         .arg(out.path())
         .arg(&model)
         .status()
@@ -186,7 +186,7 @@ fn every_file_the_pvd_names_exists_and_no_partial_file_is_left() {
     let out = tempfile::tempdir().unwrap();
     let model = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/pullout-box.toml");
     let status = Command::new(env!("CARGO_BIN_EXE_geoslip"))
-        .args(["run", "-q", "--out"])
+        .args(["run", "-q", "--vtu", "--out"])
         .arg(out.path())
         .arg(&model)
         .status()

@@ -8,7 +8,7 @@ mod pullout_bench;
 use crate::analysis::RunOptions;
 use crate::linsol::{Backend, Ordering, SolverOptions};
 use crate::model::{Case, LoadOptions, Model, Scheme};
-use crate::output::ResultWriter;
+use crate::output::{KeptSteps, OutputOptions, ResultWriter};
 use bench::{bench, bench_nonlinear};
 use clap::{Parser, Subcommand};
 use progress::{Progress, Verbosity};
@@ -87,6 +87,20 @@ enum Command {
         /// interface's unknowns (the same answers; for comparison and benchmarks).
         #[arg(long)]
         full_system: bool,
+        /// Write each kept step's whole fields as CSV files too, in stage-<k>-<name>/step-<nnn>/
+        /// (history.csv, summary.json, report.md and the plots are always written).
+        #[arg(long)]
+        csv: bool,
+        /// Which steps' fields to write: every; events (the first and last step of each stage, and
+        /// where slip starts, the soil yields, everything slides, a reaction peaks or falls); or N
+        /// (every N-th step, the events and the last). The history, summary and plots cover every
+        /// step.
+        #[arg(long, value_name = "every|events|N", default_value = "every")]
+        keep: KeptSteps,
+        /// Write the ParaView .vtu files and results.pvd beside results.h5/results.xdmf (a build
+        /// without the hdf5 feature writes them in any case).
+        #[arg(long)]
+        vtu: bool,
     },
     /// Check a model and list every problem found. It runs no other program: a mesh given as a .geo
     /// script is read (and refused if it runs programs or writes files) but meshed only with --mesh.
@@ -227,11 +241,24 @@ fn command_line() -> ExitCode {
         Command::Check { model, mesh, trust_geo } => {
             check(&model, mesh, LoadOptions { trust_geo, ..LoadOptions::default() })
         }
-        Command::Run { model, solver, out, ordering, out_of_core, memory_limit, trust_geo, full_system } => {
+        Command::Run {
+            model,
+            solver,
+            out,
+            ordering,
+            out_of_core,
+            memory_limit,
+            trust_geo,
+            full_system,
+            csv,
+            keep,
+            vtu,
+        } => {
             let options =
                 SolverOptions { ordering, out_of_core, memory_limit_mb: memory_limit, condense: !full_system };
             let load = LoadOptions { trust_geo, memory_limit_mb: memory_limit };
-            match run(&model, load, solver, &options, out, Verbosity::of(&cli_flags)) {
+            let output = OutputOptions { csv, keep, vtu };
+            match run(&model, load, solver, &options, &output, out, Verbosity::of(&cli_flags)) {
                 Ok(()) => ExitCode::SUCCESS,
                 Err(e) => {
                     eprintln!("error: {e}");
@@ -311,6 +338,7 @@ fn run(
     load: LoadOptions,
     solver: Backend,
     options: &SolverOptions,
+    output: &OutputOptions,
     out: Option<PathBuf>,
     verbosity: Verbosity,
 ) -> Result<(), crate::Error> {
@@ -320,9 +348,9 @@ fn run(
         PathBuf::from("results").join(path.file_stem().map(|s| s.to_os_string()).unwrap_or_else(|| "model".into()))
     });
     let [case @ Case { label: None, .. }] = cases.as_slice() else {
-        return run_series(path, &cases, solver, options, &out, verbosity);
+        return run_series(path, &cases, solver, options, output, &out, verbosity);
     };
-    run_case(path, &*case.model()?, solver, options, &out, verbosity, &mut Vec::new())
+    run_case(path, &*case.model()?, solver, options, output, &out, verbosity, &mut Vec::new())
 }
 
 /// Each run of a series in a folder of its own, then `series.csv`, the envelope plot and the report.
@@ -331,6 +359,7 @@ fn run_series(
     cases: &[Case],
     solver: Backend,
     options: &SolverOptions,
+    output: &OutputOptions,
     out: &std::path::Path,
     verbosity: Verbosity,
 ) -> Result<(), crate::Error> {
@@ -354,7 +383,7 @@ fn run_series(
         }
         let mut peaks = Vec::new();
         let model = case.model()?;
-        let error = match run_case(path, &*model, solver, options, &out.join(&folder), verbosity, &mut peaks) {
+        let error = match run_case(path, &*model, solver, options, output, &out.join(&folder), verbosity, &mut peaks) {
             Ok(()) => None,
             Err(e) => {
                 let message = e.to_string();
@@ -391,11 +420,13 @@ fn run_series(
 
 /// Run one model into `out`; `peaks` receives the peak reaction of each prescribed target, also when
 /// the run stops early.
+#[allow(clippy::too_many_arguments)]
 fn run_case(
     path: &std::path::Path,
     model: &Model,
     solver: Backend,
     solver_options: &SolverOptions,
+    output: &OutputOptions,
     out: &std::path::Path,
     verbosity: Verbosity,
     peaks: &mut Vec<crate::output::TargetPeak>,
@@ -410,7 +441,7 @@ fn run_case(
         ),
         b => b.name().to_string(),
     };
-    let mut writer = ResultWriter::new(model, out, &solver_name)?;
+    let mut writer = ResultWriter::with_options(model, out, &solver_name, output)?;
     if verbosity != Verbosity::Quiet {
         for note in &model.notes {
             eprintln!("note: {note}");

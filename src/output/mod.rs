@@ -1,13 +1,29 @@
-//! Result files: CSV per step, a history of the prescribed targets, and a JSON run summary.
+//! Result files: the fields of the kept steps (`results.h5` + `results.xdmf` in a build with the
+//! `hdf5` feature, ParaView `.vtu` files without it or on request, per-step CSV files on request), a
+//! history of the prescribed targets, a JSON run summary, a report and plots.
 //!
-//! Every file is written to a temporary file in the same folder and renamed into place, so a crash
-//! never leaves a truncated file under a final name. Each step's files are written as soon as the
-//! step converges, and the summary is rewritten after every step: completed steps are never lost.
+//! Every file but `results.h5` is written to a temporary file in the same folder and renamed into
+//! place, so a crash never leaves a truncated file under a final name; `results.h5` is written in
+//! place, flushed after every step, and only `results.xdmf`, rewritten atomically after the flush,
+//! says which of its steps are complete (see `results_h5.rs`). Each step's files are written as
+//! soon as the step converges (a step held back by `--keep` as soon as it proves to be kept), and
+//! the summary is rewritten after every step: completed steps are never lost.
 
+pub mod grids;
+#[cfg(feature = "hdf5")]
+pub mod hdf5_thread;
+pub mod kept_steps;
+pub mod options;
 pub mod plots;
 pub mod report;
+#[cfg(feature = "hdf5")]
+pub mod results_h5;
 pub mod series;
 pub mod vtk;
+pub mod xdmf;
+
+pub use kept_steps::KeptSteps;
+pub use options::OutputOptions;
 
 use crate::analysis::results::StepResults;
 use crate::analysis::{StepRecord, StepSink};
@@ -15,14 +31,30 @@ use crate::error::Error;
 use crate::linsol::linear_system::SolverStats;
 use crate::model::file::Direction;
 use crate::model::{Model, UnitLabels};
+use kept_steps::{HeldStep, HeldSteps};
 use std::io::Write;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 /// Run `model` on the best backend with its standard results written to `out`, passing every step
 /// and factor of safety to `observe` as well (an example's own post-processing). Returns the run's
 /// wall time in seconds; a failed run still finishes its summary and report before the error.
 pub fn run_and_write(model: &Model, out: &Path, observe: &mut dyn StepSink) -> Result<f64, Error> {
-    let mut writer = ResultWriter::new(model, out, "auto")?;
+    run_and_write_with(model, out, &OutputOptions::default(), observe)
+}
+
+/// [`run_and_write`] with the field files chosen by `output` (per-step CSV files, kept steps, `.vtu`
+/// files).
+///
+/// # Errors
+/// The run's error, after the summary and the report have recorded it (or the error writing them).
+pub fn run_and_write_with(
+    model: &Model,
+    out: &Path,
+    output: &OutputOptions,
+    observe: &mut dyn StepSink,
+) -> Result<f64, Error> {
+    let mut writer = ResultWriter::with_options(model, out, "auto", output)?;
     let options = crate::analysis::RunOptions::for_model(model, crate::linsol::Backend::Auto);
     write_run(model, &options, &mut writer, observe)
 }
@@ -84,7 +116,7 @@ pub fn path_component(name: &str) -> String {
 }
 
 /// A run into a folder that holds an earlier run's results replaces them: what a run writes there
-/// (the step folders, the ParaView files, the summary, history, report, mesh and plots) is removed
+/// (the step folders, the ParaView and HDF5 files, the summary, history, report, mesh and plots) is removed
 /// first, so that nothing of the earlier run (steps beyond this run's last, other stages) stays.
 /// The folder counts as an earlier run's only when its `summary.json` says geoslip wrote it; other
 /// files are left alone.
@@ -98,14 +130,19 @@ fn clear_earlier_run(out: &Path) -> Result<(), Error> {
         return Ok(());
     }
     let Ok(entries) = std::fs::read_dir(out) else { return Ok(()) };
-    for entry in entries.flatten() {
+    let mut entries: Vec<std::fs::DirEntry> = entries.flatten().collect();
+    // the indexes first: a run killed while clearing never leaves an .xdmf or .pvd that names
+    // files already removed
+    entries.sort_by_key(|e| !["results.xdmf", "results.pvd"].contains(&e.file_name().to_string_lossy().as_ref()));
+    for entry in entries {
         let name = entry.file_name().to_string_lossy().into_owned();
         let path = entry.path();
         let is_dir = entry.file_type().is_ok_and(|t| t.is_dir());
         let ours = if is_dir {
             is_run_folder(&name)
         } else {
-            ["history.csv", "report.md", "results.pvd", "mesh.msh"].contains(&name.as_str())
+            ["history.csv", "report.md", "results.pvd", "results.h5", "results.xdmf", "mesh.msh"]
+                .contains(&name.as_str())
                 || ((name.starts_with("pullout.") || name.starts_with("profiles-"))
                     && (name.ends_with(".png") || name.ends_with(".svg")))
         };
@@ -238,8 +275,20 @@ pub struct ResultWriter {
     marked_steps: Vec<usize>,
     /// Each reinforcement interface and the ids of its nodes.
     reinforcements: Vec<(String, std::collections::HashSet<u64>)>,
-    /// ParaView grids and their `.pvd` collection.
-    vtk: vtk::VtkWriter,
+    /// The field files asked for.
+    options: OutputOptions,
+    /// The grids' fixed parts, for the `.vtu` and HDF5 files.
+    layout: Arc<grids::GridLayout>,
+    /// ParaView `.vtu` grids and their `.pvd` collection, when written.
+    vtk: Option<vtk::VtkWriter>,
+    /// `results.h5` and its `results.xdmf`.
+    #[cfg(feature = "hdf5")]
+    h5: Option<hdf5_thread::Hdf5Thread>,
+    /// Steps held back until they prove to be kept (`--keep events` or `N`).
+    held: HeldSteps,
+    /// Each stage's last load factor, where its last step shows by it (not a strength-reduction
+    /// stage's).
+    stage_ends: Vec<Option<f64>>,
     pub summary: RunSummary,
 }
 
@@ -276,9 +325,26 @@ pub struct RunSummary {
     pub events: Vec<String>,
     /// Factors of safety found by strength-reduction stages.
     pub factors_of_safety: Vec<crate::analysis::FactorOfSafety>,
+    /// Where the fields of the kept steps are.
+    pub fields: FieldFiles,
     pub steps: Vec<StepRecord>,
     pub solver_stats: SolverStats,
     pub total_seconds: f64,
+    /// Time in the result writer: the field files, history, summary, report and plots.
+    pub write_seconds: f64,
+}
+
+/// The files that hold the fields of the kept steps.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct FieldFiles {
+    /// `results.h5` and `results.xdmf`, `results.pvd` (with `vtk/*.vtu`), or both.
+    pub files: Vec<String>,
+    /// Whether each kept step's fields are in CSV files too (`stage-<k>-<name>/step-<nnn>/`).
+    pub csv: bool,
+    /// Which steps are kept: `every`, `events` or N (every N-th step and the events).
+    pub keep: String,
+    /// The kept steps, by their number over the run (1, 2, …; the `Time` in `results.xdmf`).
+    pub kept_steps: Vec<usize>,
 }
 
 #[derive(Debug, Clone, serde::Serialize)]
@@ -290,7 +356,19 @@ pub struct Unknowns {
 }
 
 impl ResultWriter {
+    /// A writer of every step's fields in the build's default files (no per-step CSV files).
+    ///
+    /// # Errors
+    /// [`Error::Write`] naming what could not be written or cleared in `out`.
     pub fn new(model: &Model, out: &Path, solver: &str) -> Result<Self, Error> {
+        Self::with_options(model, out, solver, &OutputOptions::default())
+    }
+
+    /// A writer of the field files `options` asks for.
+    ///
+    /// # Errors
+    /// [`Error::Write`] naming what could not be written or cleared in `out`.
+    pub fn with_options(model: &Model, out: &Path, solver: &str, options: &OutputOptions) -> Result<Self, Error> {
         std::fs::create_dir_all(out).map_err(|source| Error::Write { path: out.to_path_buf(), source })?;
         remove_partial_files(out)?;
         clear_earlier_run(out)?;
@@ -313,8 +391,27 @@ impl ResultWriter {
         if let Some(generated) = model.mesh_source.as_ref().and_then(|m| m.generated.as_ref()) {
             write_atomically(&out.join("mesh.msh"), &generated.msh)?;
         }
-        let writer = ResultWriter {
-            vtk: vtk::VtkWriter::new(model, out),
+        let mut files = Vec::new();
+        if options.writes_hdf5() {
+            files.extend(["results.h5".to_string(), "results.xdmf".to_string()]);
+        }
+        if options.writes_vtu() {
+            files.push("results.pvd".to_string());
+        }
+        let layout = Arc::new(grids::GridLayout::new(model));
+        #[allow(unused_mut)] // its HDF5 file is added after the first summary
+        let mut writer = ResultWriter {
+            vtk: options.writes_vtu().then(|| vtk::VtkWriter::new(out)),
+            #[cfg(feature = "hdf5")]
+            h5: None,
+            held: HeldSteps::new(targets.len()),
+            stage_ends: model
+                .stages
+                .iter()
+                .map(|s| if s.strength_reduction.is_some() { None } else { s.load_factors.last().copied() })
+                .collect(),
+            options: *options,
+            layout,
             out: out.to_path_buf(),
             peak_reaction: vec![(0.0, false); targets.len()],
             peak_displacement: vec![0.0; targets.len()],
@@ -356,15 +453,29 @@ impl ResultWriter {
                 notes: model.notes.clone(),
                 events: Vec::new(),
                 factors_of_safety: Vec::new(),
+                fields: FieldFiles { files, csv: options.csv, keep: options.keep.to_string(), kept_steps: Vec::new() },
                 steps: Vec::new(),
                 solver_stats: SolverStats::default(),
                 total_seconds: 0.0,
+                write_seconds: 0.0,
             },
             units,
         };
         // at once, so that a run killed before its first step leaves a folder the next run
         // recognises as geoslip's (and clears)
         writer.write_summary()?;
+        #[cfg(feature = "hdf5")]
+        {
+            let labels: Vec<(String, &str)> = writer
+                .targets
+                .iter()
+                .map(|t| (t.label.clone(), if t.direction == Direction::X { "x" } else { "y" }))
+                .collect();
+            let history: Vec<results_h5::HistoryTarget<'_>> =
+                labels.iter().map(|(label, direction)| results_h5::HistoryTarget { label, direction }).collect();
+            let results = results_h5::Hdf5Results::create(out, &model.title, &writer.units, &writer.layout, &history)?;
+            writer.h5 = Some(hdf5_thread::Hdf5Thread::start(results, writer.layout.clone())?);
+        }
         Ok(writer)
     }
 
@@ -400,6 +511,15 @@ impl ResultWriter {
         stats: Option<SolverStats>,
         seconds: f64,
     ) -> Result<(), Error> {
+        let started = std::time::Instant::now();
+        // the last step of the run, if it was held back
+        if let Some(last) = self.held.latest.take() {
+            self.write_held(&last)?;
+        }
+        #[cfg(feature = "hdf5")]
+        if let Some(h5) = &mut self.h5 {
+            h5.finish()?;
+        }
         self.summary.status = if error.is_some() { "failed".into() } else { "completed".into() };
         self.summary.error = error.map(|e| e.to_string());
         if let Some(s) = stats {
@@ -409,7 +529,49 @@ impl ResultWriter {
         self.write_summary()?;
         let figures = self.write_plots()?;
         let report = report::markdown(model, &self.summary, &self.history, &self.units, &figures);
-        write_atomically(&self.out.join("report.md"), report.as_bytes())
+        write_atomically(&self.out.join("report.md"), report.as_bytes())?;
+        // once more, with the time the writer took to the end
+        self.summary.write_seconds += started.elapsed().as_secs_f64();
+        self.write_summary()
+    }
+
+    /// Write the fields of step number `time` in every field file asked for, unless they are
+    /// written already.
+    fn write_fields(&mut self, time: usize, record: &StepRecord, results: &StepResults) -> Result<(), Error> {
+        let kept = &mut self.summary.fields.kept_steps;
+        let Err(at) = kept.binary_search(&time) else { return Ok(()) };
+        kept.insert(at, time);
+        if self.options.csv {
+            // the step's folder appears whole or not at all: written beside it, then renamed into
+            // place (over the same step of an earlier run into this folder)
+            let dir = self.step_dir(record);
+            let name = dir.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+            let partial = dir.with_file_name(format!(".partial-{name}"));
+            if partial.exists() {
+                std::fs::remove_dir_all(&partial).map_err(write_error(&partial))?;
+            }
+            self.write_step_files(&partial, results)?;
+            if dir.exists() {
+                remove_folder(&dir)?;
+            }
+            std::fs::rename(&partial, &dir).map_err(write_error(&dir))?;
+        }
+        if self.vtk.is_none() && !self.options.writes_hdf5() {
+            return Ok(());
+        }
+        let grids = self.layout.step(results);
+        if let Some(vtk) = &mut self.vtk {
+            vtk.write_step(time, &self.layout, &grids)?;
+        }
+        #[cfg(feature = "hdf5")]
+        if let Some(h5) = &mut self.h5 {
+            h5.write_step(time, record, grids)?;
+        }
+        Ok(())
+    }
+
+    fn write_held(&mut self, held: &HeldStep) -> Result<(), Error> {
+        self.write_fields(held.time, &held.record, &held.results)
     }
 
     fn write_step_files(&self, dir: &Path, r: &StepResults) -> Result<(), Error> {
@@ -549,23 +711,17 @@ impl StepSink for ResultWriter {
     }
 
     fn step_done(&mut self, results: &StepResults, record: &StepRecord, stats: &SolverStats) -> Result<(), Error> {
-        // the step's folder appears whole or not at all: written beside it, then renamed into place
-        // (over the same step of an earlier run into this folder)
-        let dir = self.step_dir(record);
-        let name = dir.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-        let partial = dir.with_file_name(format!(".partial-{name}"));
-        if partial.exists() {
-            std::fs::remove_dir_all(&partial).map_err(write_error(&partial))?;
-        }
-        self.write_step_files(&partial, results)?;
-        if dir.exists() {
-            remove_folder(&dir)?;
-        }
-        std::fs::rename(&partial, &dir).map_err(write_error(&dir))?;
-        self.vtk.write_step(self.summary.steps.len() + 1, results)?;
+        let started = std::time::Instant::now();
+        let time = self.summary.steps.len() + 1;
         let when = format!("stage \"{}\" step {} (load factor {:.4})", record.stage, record.step, record.load_factor);
+        // an event step: the first or (where it shows) the last of its stage, or one where something
+        // happens
+        let ends_stage = record.strength_factor.is_none()
+            && self.stage_ends.get(record.stage_index).copied().flatten() == Some(record.load_factor);
+        let mut event = record.step == 1 || ends_stage;
         if !self.slip_started && record.sliding_points > 0 {
             self.slip_started = true;
+            event = true;
             self.marked_steps.push(self.summary.steps.len());
             self.summary
                 .events
@@ -573,6 +729,7 @@ impl StepSink for ResultWriter {
         }
         if !self.soil_yielded && record.yielding_points > 0 {
             self.soil_yielded = true;
+            event = true;
             self.summary.events.push(format!(
                 "{when}: the soil yields ({} Gauss points on the yield surface)",
                 record.yielding_points
@@ -580,9 +737,13 @@ impl StepSink for ResultWriter {
         }
         if !self.all_sliding && record.contact_points > 0 && record.sliding_points == record.contact_points {
             self.all_sliding = true;
+            event = true;
             self.marked_steps.push(self.summary.steps.len());
             self.summary.events.push(format!("{when}: every interface point in contact slides"));
         }
+        // the targets' displacement and reaction; a new peak, or a fall from one
+        let mut values = Vec::with_capacity(self.targets.len());
+        let (mut peaked, mut fell) = (Vec::new(), Vec::new());
         for (ti, t) in self.targets.iter().enumerate() {
             let d = |n: usize| 2 * n + if t.direction == Direction::X { 0 } else { 1 };
             let mean_u = t.nodes.iter().map(|&n| results.displacement_vector[d(n)]).sum::<f64>() / t.nodes.len() as f64;
@@ -598,9 +759,12 @@ impl StepSink for ResultWriter {
                     mean_u
                 ));
                 self.peak_reaction[ti].1 = true; // once per peak
+                event = true;
+                fell.push(ti);
             } else if reaction.abs() > peak {
                 self.peak_reaction[ti] = (reaction.abs(), false);
                 self.peak_displacement[ti] = mean_u;
+                peaked.push(ti);
             }
             self.history.push(vec![
                 record.stage.clone(),
@@ -611,7 +775,41 @@ impl StepSink for ResultWriter {
                 num(mean_u),
                 num(reaction),
             ]);
+            values.push((mean_u, reaction));
         }
+
+        // the fields: this step's if it is kept; the step before, held back, if this one starts
+        // another stage (it was the last of its own); a peak held back, once the reaction falls
+        // from it
+        if let Some(before) = self.held.latest.take() {
+            if before.record.stage_index != record.stage_index {
+                self.write_held(&before)?;
+            }
+        }
+        let keep = self.options.keep.keeps(time, event);
+        let held = (self.options.keep.thins() && !keep).then(|| HeldStep {
+            time,
+            record: record.clone(),
+            results: Arc::new(results.clone()),
+        });
+        if keep {
+            self.write_fields(time, record, results)?;
+        }
+        for ti in peaked {
+            self.held.peaks[ti] = held.clone();
+        }
+        for ti in fell {
+            if let Some(peak) = self.held.peaks[ti].take() {
+                self.write_held(&peak)?;
+            }
+        }
+        self.held.latest = held;
+        #[cfg(feature = "hdf5")]
+        if let Some(h5) = &mut self.h5 {
+            h5.append_history(time, record, &values)?;
+            h5.commit()?;
+        }
+
         let u = &self.units;
         let header = vec![
             "stage".to_string(),
@@ -629,6 +827,7 @@ impl StepSink for ResultWriter {
         });
         self.summary.steps.push(record.clone());
         self.summary.solver_stats = stats.clone();
+        self.summary.write_seconds += started.elapsed().as_secs_f64();
         self.write_summary()
     }
 }

@@ -16,8 +16,27 @@ pub fn markdown(
     model_section(&mut r, model, summary, units);
     key_results(&mut r, summary, history, units, figures);
     run_history(&mut r, summary);
-    let _ = writeln!(r, "\nEvery step's files are in `stage-<k>-<name>/step-<nnn>/`; `history.csv` holds the curves, `summary.json` all of the above.");
+    field_files(&mut r, summary);
     r
+}
+
+/// Where the fields of the kept steps are, and the curves.
+fn field_files(r: &mut String, summary: &RunSummary) {
+    let f = &summary.fields;
+    let steps = match f.keep.as_str() {
+        "every" => "every step".to_string(),
+        "events" => format!("the {} event steps", f.kept_steps.len()),
+        n => format!("every {n}th step and the event steps, {} in all", f.kept_steps.len()),
+    };
+    let files: Vec<String> = f.files.iter().map(|name| format!("`{name}`")).collect();
+    let mut text = format!("\nThe fields of {steps} are in {}", files.join(", "));
+    if f.files.iter().any(|name| name == "results.xdmf") {
+        text.push_str(" (open `results.xdmf` in ParaView)");
+    }
+    if f.csv {
+        text.push_str(", and as CSV files in `stage-<k>-<name>/step-<nnn>/`");
+    }
+    let _ = writeln!(r, "{text}; `history.csv` holds the curves, `summary.json` all of the above.");
 }
 
 /// The title, the run's facts and the model: its size, mesh, interfaces and analysis settings.

@@ -100,3 +100,95 @@ pub fn newton(tolerance: f64) -> geoslip::model::file::AnalysisSettings {
         ..Default::default()
     }
 }
+
+/// A pull-out box model file: 4 × 2 quad4 elements, 0.4 m × 0.2 m, a geogrid at mid-height over
+/// 0.3 m, its head pulled in `pull_steps` steps; `law` is the interface's law as a TOML inline table.
+pub fn small_pullout_box(title: &str, law: &str, pull_steps: usize) -> String {
+    let (nx, ny) = (4, 2);
+    let id = |i: usize, j: usize| 1 + j * (nx + 1) + i;
+    let mut nodes = Vec::new();
+    for j in 0..=ny {
+        for i in 0..=nx {
+            nodes.push(format!("[{}, {:.1}, {:.1}]", id(i, j), 0.1 * i as f64, 0.1 * j as f64));
+        }
+    }
+    let mut elements = Vec::new();
+    for j in 0..ny {
+        for i in 0..nx {
+            elements.push(format!(
+                "{{ id = {}, type = \"quad4\", nodes = [{}, {}, {}, {}], material = \"sand\" }}",
+                elements.len() + 1,
+                id(i, j),
+                id(i + 1, j),
+                id(i + 1, j + 1),
+                id(i, j + 1)
+            ));
+        }
+    }
+    let list = |ids: Vec<usize>| ids.iter().map(usize::to_string).collect::<Vec<_>>().join(", ");
+    let factors: Vec<String> = (1..=pull_steps).map(|k| format!("{}", k as f64 / pull_steps as f64)).collect();
+    format!(
+        r#"title = "{title}"
+nodes = [{nodes}]
+elements = [{elements}]
+
+[units]
+length = "m"
+force = "kN"
+
+[materials.soil.sand]
+youngs_modulus = 20000.0
+poissons_ratio = 0.3
+unit_weight = 18.0
+
+[materials.reinforcement.grid]
+axial_stiffness = 1000.0
+tension_only = true
+
+[node_sets]
+base = [{base}]
+front = [{front}]
+back = [{back}]
+
+[edge_sets]
+top = [{top}]
+
+[[supports]]
+set = "base"
+fix = ["x", "y"]
+
+[[supports]]
+set = "front"
+fix = ["x"]
+
+[[supports]]
+set = "back"
+fix = ["x"]
+
+[[interfaces]]
+name = "grid"
+reinforcement = {{ path = [{path}], material = "grid" }}
+law = {law}
+
+[[stages]]
+name = "surcharge"
+loads = [{{ type = "edge-traction", edge_set = "top", pressure = 50.0 }}]
+
+[[stages]]
+name = "pull-out"
+load_factors = [{factors}]
+prescribed = [{{ set = "grid.head", ux = -0.05 }}]
+
+[analysis]
+scheme = "newton"
+"#,
+        nodes = nodes.join(", "),
+        elements = elements.join(",\n  "),
+        base = list((0..=nx).map(|i| id(i, 0)).collect()),
+        front = list((0..=ny).map(|j| id(0, j)).collect()),
+        back = list((0..=ny).map(|j| id(nx, j)).collect()),
+        top = (0..nx).map(|i| format!("[{}, {}]", id(i, ny), id(i + 1, ny))).collect::<Vec<_>>().join(", "),
+        path = list((0..nx).map(|i| id(i, 1)).collect()),
+        factors = factors.join(", "),
+    )
+}

@@ -1,0 +1,234 @@
+//! The three grids a step is shown on in ParaView: the soil, the reinforcement and the interface
+//! points, as plain arrays (points at their reference positions, cells, and the fields on them).
+//! The VTK writer (`vtk.rs`) and the HDF5/XDMF writer (`results_h5.rs`) both write these, under the
+//! same field names, so that a step looks the same in either.
+//!
+//! Soil cell values are element averages of the Gauss-point values: the sum over the element's
+//! Gauss points in the order of `StepResults::stresses`, divided by their number.
+
+use crate::analysis::results::StepResults;
+use crate::model::file::SolidKind;
+use crate::model::Model;
+use std::collections::HashMap;
+
+/// The interface point state written as an integer: 0 stick, 1 slip, 2 open, 3 residual.
+pub fn interface_state_code(normal_state: &str, sliding: bool, post_peak: bool) -> i32 {
+    match normal_state {
+        "active" | "redundant" => {
+            if post_peak {
+                3
+            } else if sliding {
+                1
+            } else {
+                0
+            }
+        }
+        _ => 2,
+    }
+}
+
+/// A bar's state written as an integer: 0 intact (or not placed yet), 1 slack, 2 ruptured.
+pub fn bar_state_code(state: &str) -> i32 {
+    match state {
+        "slack" => 1,
+        "ruptured" => 2,
+        _ => 0,
+    }
+}
+
+/// The grids' fixed parts, taken from the model once.
+pub struct GridLayout {
+    /// Each mesh node's reference position: the soil grid's points, in mesh order.
+    pub node_x: Vec<[f64; 2]>,
+    /// Node id → position in the mesh's node list.
+    node_index: HashMap<u64, usize>,
+    /// Each soil element: its kind and its mesh node indices (corners, then mid-sides, as VTK and
+    /// XDMF list them).
+    pub soil_cells: Vec<(SolidKind, Vec<usize>)>,
+    /// Each soil element's material (index in name order).
+    pub soil_material: Vec<i32>,
+    pub soil_ids: Vec<u64>,
+    /// Soil element id → position in `soil_ids`.
+    soil_row: HashMap<u64, usize>,
+    /// The reinforcement grid's points: the mesh nodes of the bars, in order of first appearance.
+    pub bar_nodes: Vec<usize>,
+    /// Each bar's two points (indices into `bar_nodes`).
+    pub bar_cells: Vec<[usize; 2]>,
+}
+
+/// The soil as present in one step, on every mesh node.
+pub struct SoilGrid {
+    /// The soil elements present in this step (indices into `GridLayout::soil_cells`): a lift not
+    /// yet placed, or excavated soil, has no Gauss-point results and is left out.
+    pub present: Vec<usize>,
+    /// Per mesh node (x, y, 0).
+    pub displacement: Vec<[f64; 3]>,
+    /// Per present element, symmetric tensors in VTK's order xx, yy, zz, xy, yz, xz; the shear
+    /// strain as the tensor component εxy = γxy/2.
+    pub stress: Vec<[f64; 6]>,
+    pub strain: Vec<[f64; 6]>,
+    pub pore_pressure: Vec<f64>,
+    /// The share of the element's Gauss points on the yield surface, 0 to 1.
+    pub plastic_fraction: Vec<f64>,
+    pub plastic_strain: Vec<f64>,
+    pub material: Vec<i32>,
+    pub element_id: Vec<u64>,
+}
+
+/// The reinforcement bars in one step: points `GridLayout::bar_nodes`, cells `bar_cells`.
+pub struct ReinforcementGrid {
+    /// Per point (x, y, 0).
+    pub displacement: Vec<[f64; 3]>,
+    /// Per bar, in the mesh's bar order.
+    pub axial_force: Vec<f64>,
+    pub state: Vec<i32>,
+    pub bar_id: Vec<u64>,
+}
+
+/// The interface points of one step, in the order of `StepResults::interface_points` (face by face,
+/// each in the order of its slave line).
+pub struct InterfaceGrid {
+    /// Each point at its slave node's reference position.
+    pub x: Vec<[f64; 2]>,
+    pub displacement: Vec<[f64; 3]>,
+    pub lambda: Vec<f64>,
+    pub sigma_n: Vec<f64>,
+    pub tau: Vec<f64>,
+    pub slip: Vec<f64>,
+    /// [`interface_state_code`].
+    pub state: Vec<i32>,
+    /// The point's face: 0, 1, … in order of appearance.
+    pub face: Vec<i32>,
+    /// Each face's name, `<interface>:<face>`, by its number.
+    pub face_names: Vec<String>,
+    /// Lines joining neighbouring points of one face (indices into the points).
+    pub lines: Vec<[usize; 2]>,
+}
+
+/// The three grids of one step.
+pub struct StepGrids {
+    pub soil: SoilGrid,
+    pub reinforcement: ReinforcementGrid,
+    pub interface: InterfaceGrid,
+}
+
+impl GridLayout {
+    pub fn new(model: &Model) -> Self {
+        let mesh = &model.mesh;
+        let mut bar_nodes = Vec::new();
+        let mut local: HashMap<usize, usize> = HashMap::new();
+        let bar_cells = mesh
+            .bars
+            .iter()
+            .map(|b| {
+                b.nodes.map(|n| {
+                    *local.entry(n).or_insert_with(|| {
+                        bar_nodes.push(n);
+                        bar_nodes.len() - 1
+                    })
+                })
+            })
+            .collect();
+        GridLayout {
+            node_x: mesh.nodes.iter().map(|n| n.x).collect(),
+            node_index: mesh.nodes.iter().enumerate().map(|(i, n)| (n.id, i)).collect(),
+            soil_cells: mesh.solids.iter().map(|s| (s.kind, s.nodes.clone())).collect(),
+            soil_material: mesh.solids.iter().map(|s| s.material as i32).collect(),
+            soil_ids: mesh.solids.iter().map(|s| s.id).collect(),
+            soil_row: mesh.solids.iter().enumerate().map(|(i, s)| (s.id, i)).collect(),
+            bar_nodes,
+            bar_cells,
+        }
+    }
+
+    /// The three grids of step `r`.
+    pub fn step(&self, r: &StepResults) -> StepGrids {
+        let mut u = vec![[0.0; 3]; self.node_x.len()];
+        for (id, _, d) in &r.displacements {
+            if let Some(&i) = self.node_index.get(id) {
+                u[i] = [d[0], d[1], 0.0];
+            }
+        }
+        StepGrids { soil: self.soil(r, &u), reinforcement: self.reinforcement(r, &u), interface: self.interface(r, &u) }
+    }
+
+    fn soil(&self, r: &StepResults, u: &[[f64; 3]]) -> SoilGrid {
+        let n = self.soil_ids.len();
+        let mut stress = vec![[0.0; 6]; n];
+        let mut strain = vec![[0.0; 6]; n];
+        let mut count = vec![0usize; n];
+        let mut pore = vec![0.0; n];
+        let mut plastic = vec![0.0; n];
+        let mut plastic_strain = vec![0.0; n];
+        for g in &r.stresses {
+            let Some(&i) = self.soil_row.get(&g.element) else { continue };
+            pore[i] += g.pore_pressure;
+            plastic[i] += if g.yield_state.is_plastic() { 1.0 } else { 0.0 };
+            plastic_strain[i] += g.plastic_strain;
+            let (s, e) = (g.stress, g.strain);
+            for (k, v) in [s[0], s[1], s[3], s[2], 0.0, 0.0].into_iter().enumerate() {
+                stress[i][k] += v;
+            }
+            for (k, v) in [e[0], e[1], 0.0, 0.5 * e[2], 0.0, 0.0].into_iter().enumerate() {
+                strain[i][k] += v;
+            }
+            count[i] += 1;
+        }
+        let present: Vec<usize> = (0..n).filter(|&i| count[i] > 0).collect();
+        let mean = |sum: f64, i: usize| sum / count[i] as f64;
+        SoilGrid {
+            displacement: u.to_vec(),
+            stress: present.iter().map(|&i| stress[i].map(|v| mean(v, i))).collect(),
+            strain: present.iter().map(|&i| strain[i].map(|v| mean(v, i))).collect(),
+            pore_pressure: present.iter().map(|&i| mean(pore[i], i)).collect(),
+            plastic_fraction: present.iter().map(|&i| mean(plastic[i], i)).collect(),
+            plastic_strain: present.iter().map(|&i| mean(plastic_strain[i], i)).collect(),
+            material: present.iter().map(|&i| self.soil_material[i]).collect(),
+            element_id: present.iter().map(|&i| self.soil_ids[i]).collect(),
+            present,
+        }
+    }
+
+    fn reinforcement(&self, r: &StepResults, u: &[[f64; 3]]) -> ReinforcementGrid {
+        ReinforcementGrid {
+            displacement: self.bar_nodes.iter().map(|&n| u[n]).collect(),
+            axial_force: r.bar_forces.iter().map(|b| b.axial_force).collect(),
+            state: r.bar_forces.iter().map(|b| bar_state_code(b.state)).collect(),
+            bar_id: r.bar_forces.iter().map(|b| b.bar).collect(),
+        }
+    }
+
+    fn interface(&self, r: &StepResults, u: &[[f64; 3]]) -> InterfaceGrid {
+        let points = &r.interface_points;
+        let mut faces: Vec<(&str, &str)> = Vec::new();
+        let mut face = Vec::with_capacity(points.len());
+        let mut lines = Vec::new();
+        for (k, p) in points.iter().enumerate() {
+            let key = (p.interface.as_str(), p.face.as_str());
+            let f = match faces.iter().position(|f| *f == key) {
+                Some(f) => f,
+                None => {
+                    faces.push(key);
+                    faces.len() - 1
+                }
+            } as i32;
+            if k > 0 && face.last() == Some(&f) {
+                lines.push([k - 1, k]);
+            }
+            face.push(f);
+        }
+        let node = |id: u64| self.node_index.get(&id).copied();
+        InterfaceGrid {
+            x: points.iter().map(|p| node(p.slave_node).map_or(p.x, |n| self.node_x[n])).collect(),
+            displacement: points.iter().map(|p| node(p.slave_node).map_or([0.0; 3], |n| u[n])).collect(),
+            lambda: points.iter().map(|p| p.lambda).collect(),
+            sigma_n: points.iter().map(|p| p.sigma_n).collect(),
+            tau: points.iter().map(|p| p.tau).collect(),
+            slip: points.iter().map(|p| p.slip).collect(),
+            state: points.iter().map(|p| interface_state_code(p.state, p.sliding, p.post_peak)).collect(),
+            face,
+            face_names: faces.iter().map(|(interface, face)| format!("{interface}:{face}")).collect(),
+            lines,
+        }
+    }
+}

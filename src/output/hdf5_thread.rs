@@ -1,0 +1,124 @@
+//! `results.h5` written on a thread of its own, while the run goes on with the next step: the
+//! compression and the writing of a step's fields overlap the next step's equilibrium iterations
+//! instead of adding to them.
+//!
+//! The run's thread hands each step's grids, its history entry and a commit to the writer thread,
+//! which does them in order (see `results_h5.rs`: the index `results.xdmf` is rewritten only after
+//! the HDF5 file is flushed, so it lists complete steps only, whatever the moment the run is killed).
+//! At most two steps wait at once: a run never holds more than a few steps' grids in memory. An
+//! error on the writer thread stops it; the run's thread gets the error at its next hand-over, or
+//! when it finishes.
+
+use super::grids::{GridLayout, StepGrids};
+use super::results_h5::Hdf5Results;
+use crate::analysis::StepRecord;
+use crate::error::Error;
+use std::path::PathBuf;
+use std::sync::mpsc::{sync_channel, SyncSender};
+use std::sync::Arc;
+use std::thread::JoinHandle;
+
+/// Steps that may wait for the writer thread.
+const WAITING: usize = 2;
+
+/// One piece of work for the writer thread.
+enum Job {
+    Fields { time: usize, record: StepRecord, grids: StepGrids },
+    History { time: usize, record: StepRecord, targets: Vec<(f64, f64)> },
+    Commit,
+}
+
+/// The writer thread of `results.h5`.
+pub struct Hdf5Thread {
+    jobs: Option<SyncSender<Job>>,
+    thread: Option<JoinHandle<Result<(), Error>>>,
+    path: PathBuf,
+}
+
+impl Hdf5Thread {
+    /// Start the thread that writes `results` (already created), with the grids' fixed parts.
+    ///
+    /// # Errors
+    /// [`Error::Write`] naming `results.h5` when no thread can be started.
+    pub fn start(mut results: Hdf5Results, layout: Arc<GridLayout>) -> Result<Self, Error> {
+        let path = results.path().to_path_buf();
+        let (jobs, inbox) = sync_channel::<Job>(WAITING);
+        let thread = std::thread::Builder::new()
+            .name("results.h5".into())
+            .spawn(move || {
+                for job in inbox {
+                    match job {
+                        Job::Fields { time, record, grids } => results.write_step(time, &record, &layout, &grids)?,
+                        Job::History { time, record, targets } => results.append_history(time, &record, &targets)?,
+                        Job::Commit => results.commit()?,
+                    }
+                }
+                results.commit()
+            })
+            .map_err(|source| Error::Write { path: path.clone(), source })?;
+        Ok(Hdf5Thread { jobs: Some(jobs), thread: Some(thread), path })
+    }
+
+    /// Hand step `time`'s grids over.
+    ///
+    /// # Errors
+    /// The writer thread's error, if it has stopped.
+    pub fn write_step(&mut self, time: usize, record: &StepRecord, grids: StepGrids) -> Result<(), Error> {
+        self.send(Job::Fields { time, record: record.clone(), grids })
+    }
+
+    /// Hand step `time`'s history entry over: each target's displacement and reaction.
+    ///
+    /// # Errors
+    /// The writer thread's error, if it has stopped.
+    pub fn append_history(&mut self, time: usize, record: &StepRecord, targets: &[(f64, f64)]) -> Result<(), Error> {
+        self.send(Job::History { time, record: record.clone(), targets: targets.to_vec() })
+    }
+
+    /// Ask for what was handed over so far to be made durable and listed in `results.xdmf`.
+    ///
+    /// # Errors
+    /// The writer thread's error, if it has stopped.
+    pub fn commit(&mut self) -> Result<(), Error> {
+        self.send(Job::Commit)
+    }
+
+    /// Wait for the writer thread to finish what it was handed (and commit it).
+    ///
+    /// # Errors
+    /// The writer thread's error.
+    pub fn finish(&mut self) -> Result<(), Error> {
+        self.jobs = None;
+        self.join()
+    }
+
+    fn send(&mut self, job: Job) -> Result<(), Error> {
+        let sent = self.jobs.as_ref().is_some_and(|jobs| jobs.send(job).is_ok());
+        if sent {
+            return Ok(());
+        }
+        // the thread has stopped: its error
+        self.jobs = None;
+        self.join()?;
+        Err(self.stopped())
+    }
+
+    fn join(&mut self) -> Result<(), Error> {
+        match self.thread.take().map(JoinHandle::join) {
+            None | Some(Ok(Ok(()))) => Ok(()),
+            Some(Ok(Err(e))) => Err(e),
+            Some(Err(_)) => Err(self.stopped()),
+        }
+    }
+
+    fn stopped(&self) -> Error {
+        Error::Write { path: self.path.clone(), source: std::io::Error::other("the HDF5 writer thread stopped") }
+    }
+}
+
+impl Drop for Hdf5Thread {
+    fn drop(&mut self) {
+        // what was handed over is written even when the run ends without `finish`
+        let _ = self.finish();
+    }
+}

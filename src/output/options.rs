@@ -1,0 +1,34 @@
+//! What a run writes besides its history, summary, report and plots (which it always writes): the
+//! fields of the kept steps as `results.h5` + `results.xdmf` (a build with the `hdf5` feature) or
+//! as ParaView `.vtu` files (a build without it, or on request), and per-step CSV files on request.
+
+use super::kept_steps::KeptSteps;
+
+/// The field files of a run (`geoslip run --csv --keep … --vtu`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct OutputOptions {
+    /// Each kept step's whole fields as CSV files too, in `stage-<k>-<name>/step-<nnn>/`.
+    pub csv: bool,
+    /// Which steps' fields are written.
+    pub keep: KeptSteps,
+    /// The ParaView `.vtu` files and `results.pvd` beside `results.h5`/`.xdmf`. A build without the
+    /// `hdf5` feature writes them in any case: they are then its only field files.
+    pub vtu: bool,
+}
+
+impl OutputOptions {
+    /// Every step, with its CSV files: what a program that post-processes the step folders needs.
+    pub fn with_csv() -> Self {
+        OutputOptions { csv: true, ..OutputOptions::default() }
+    }
+
+    /// Whether the `.vtu` files are written: on request, or always without HDF5.
+    pub fn writes_vtu(&self) -> bool {
+        self.vtu || !cfg!(feature = "hdf5")
+    }
+
+    /// Whether `results.h5` and `results.xdmf` are written: in every build with the `hdf5` feature.
+    pub fn writes_hdf5(&self) -> bool {
+        cfg!(feature = "hdf5")
+    }
+}

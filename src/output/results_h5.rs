@@ -1,0 +1,543 @@
+//! The run's fields in one compressed HDF5 file, `results.h5`, indexed by `results.xdmf` for
+//! ParaView (see `xdmf.rs`); in a build with the `hdf5` feature (hdf5-metno over the system's
+//! libhdf5).
+//!
+//! Layout of `results.h5` (every dataset of 512 values or more chunked and deflate-compressed,
+//! level 1, when the library has deflate, uncompressed otherwise; smaller ones stored whole; each
+//! field dataset carries its `unit`):
+//!
+//! ```text
+//! /mesh/soil/geometry            nodes × 3, reference x, y, 0 of every mesh node, written once
+//! /mesh/soil/topology-<k>, element_id-<k>, material-<k>
+//!                                the cells of the soil present, their ids and materials; new ones
+//!                                only when the soil present changes
+//! /mesh/reinforcement/geometry, topology      the bars' nodes and the bars (two-node lines), once
+//! /mesh/interface/geometry-<k>, topology-<k>  the interface points (one vertex each)
+//! /steps/<nnnn>/                 a kept step (its number over the run; attributes stage,
+//!                                stage_step, load_factor)
+//!     soil/displacement (node), stress, strain (symmetric tensors xx, yy, zz, xy, yz, xz, as VTK
+//!          orders them), pore_pressure, plastic_fraction,
+//!          plastic_strain (cell); geometry, topology, element_id and material: links into /mesh
+//!     reinforcement/displacement (node), axial_force, state, bar_id (cell)
+//!     interface/displacement, lambda, sigma_n, tau, slip, state, face (node), face (cell);
+//!          attribute faces: each face's name, `<interface>:<face>`, by its number
+//! /history/time, stage, stage_step, load_factor     one entry per step of the run, kept or not
+//! /history/<target> (<x|y>)/displacement, reaction  what history.csv holds, per target
+//! ```
+//!
+//! Crash safety: the file is written in place, so it is not the file that says which steps are
+//! complete but `results.xdmf`. After every step the HDF5 file is flushed (H5Fflush: every object
+//! of the step and the file's metadata on disk, consistent) and synced, and only then is
+//! `results.xdmf` rewritten, atomically, to list the steps written so far. A run killed in the
+//! middle of a step leaves an `.xdmf` that lists only steps whose data were flushed before it was
+//! rewritten, whatever state the step being written is in; the run's `summary.json` still says
+//! `running`. The next run into the folder removes both files (`clear_earlier_run`). A run writes
+//! this file on a thread of its own (`hdf5_thread.rs`), in the same order.
+
+use super::grids::{GridLayout, StepGrids};
+use super::write_atomically;
+use super::xdmf::{self, Center, DataRef, Field, GridStep, KeptStep, NumberType, Topology, TopologyType};
+use crate::analysis::StepRecord;
+use crate::error::Error;
+use crate::model::file::SolidKind;
+use crate::model::UnitLabels;
+use hdf5::types::VarLenUnicode;
+use hdf5::{Dataset, Group, H5Type, Location};
+use std::path::{Path, PathBuf};
+
+/// The HDF5 file's name in the output folder, and its index's.
+pub const H5_NAME: &str = "results.h5";
+pub const XDMF_NAME: &str = "results.xdmf";
+
+/// Values per chunk of a field dataset (256 KiB of f64).
+const CHUNK_VALUES: usize = 32_768;
+/// Below this many values a dataset is stored whole and uncompressed: a chunk index and a filter
+/// pipeline would cost more than they save.
+const SMALL_VALUES: usize = 512;
+/// Entries per chunk of a history dataset.
+const HISTORY_CHUNK: usize = 256;
+/// Deflate level 1, without the shuffle filter: on a 10⁴-unknown pull-out the file is 0.5 % larger
+/// than at level 4 and written in two thirds of the time; the shuffle filter made it larger (the
+/// fields hold many exact zeros and repeated values) and slower.
+const DEFLATE_LEVEL: u8 = 1;
+/// Half the entries of a chunk-index node (HDF5's default is 32, for datasets of many chunks).
+const ISTORE_K: u32 = 4;
+
+/// A prescribed target followed in the history: its label and direction (`x` or `y`).
+pub struct HistoryTarget<'a> {
+    pub label: &'a str,
+    pub direction: &'a str,
+}
+
+/// `results.h5` being written, and the kept steps that `results.xdmf` lists.
+pub struct Hdf5Results {
+    path: PathBuf,
+    xdmf: PathBuf,
+    file: hdf5::File,
+    /// Deflate is available in the library: datasets are chunked and compressed.
+    compress: bool,
+    units: UnitLabels,
+    steps: Vec<KeptStep>,
+    soil_geometry: DataRef,
+    /// Each set of present soil elements written so far, and its cells.
+    soil_topologies: Vec<(Vec<usize>, SoilCells)>,
+    reinforcement: Option<(DataRef, Topology)>,
+    /// Each list of interface point positions written so far, its geometry and topology.
+    interface_meshes: Vec<(Vec<[f64; 2]>, DataRef, Topology)>,
+    history: History,
+}
+
+/// The soil elements present in some steps: their topology, ids and materials, written once.
+#[derive(Clone)]
+struct SoilCells {
+    topology: Topology,
+    element_id: DataRef,
+    material: DataRef,
+}
+
+/// The history datasets, one entry per step appended.
+struct History {
+    time: Dataset,
+    stage: Dataset,
+    stage_step: Dataset,
+    load_factor: Dataset,
+    /// Per target: displacement, reaction.
+    targets: Vec<(Dataset, Dataset)>,
+    len: usize,
+}
+
+impl Hdf5Results {
+    /// Create `results.h5` in `out` (replacing one there) with the mesh parts fixed for the run and
+    /// empty history datasets.
+    ///
+    /// # Errors
+    /// [`Error::Write`] naming `results.h5`.
+    pub fn create(
+        out: &Path,
+        title: &str,
+        units: &UnitLabels,
+        layout: &GridLayout,
+        targets: &[HistoryTarget<'_>],
+    ) -> Result<Self, Error> {
+        let path = out.join(H5_NAME);
+        let fail = h5_error(&path);
+        // an index left beside (by a run of another program, or an earlier run not cleared) must
+        // not name the arrays of the file about to be replaced
+        let xdmf = out.join(XDMF_NAME);
+        if xdmf.exists() {
+            std::fs::remove_file(&xdmf).map_err(|source| Error::Write { path: xdmf.clone(), source })?;
+        }
+        // the 1.8 file format: compact groups, and no file-consistency flags (the 1.10 format's
+        // would make a file left by a killed run unreadable without h5clear)
+        // small chunk-index nodes (most datasets have a chunk or a few), and no modification times
+        // on the objects (two runs of a model write the same bytes but the root group's times)
+        let file = hdf5::File::with_options()
+            .with_fapl(|p| p.libver_v18())
+            .with_fcpl(|p| p.istore_k(ISTORE_K).obj_track_times(false))
+            .create(&path)
+            .map_err(&fail)?;
+        let compress = hdf5::filters::deflate_available();
+        text_attr(&file, "geoslip_version", env!("CARGO_PKG_VERSION")).map_err(&fail)?;
+        text_attr(&file, "title", title).map_err(&fail)?;
+        text_attr(&file, "xdmf", XDMF_NAME).map_err(&fail)?;
+        let writer = ArrayWriter { compress };
+        let mesh = new_group(&file, "mesh").map_err(&fail)?;
+        new_group(&file, "steps").map_err(&fail)?;
+
+        let soil = new_group(&mesh, "soil").map_err(&fail)?;
+        let x: Vec<f64> = layout.node_x.iter().flat_map(|p| [p[0], p[1], 0.0]).collect();
+        let soil_geometry = writer.array(&soil, "geometry", &x, 3, Some(units.length)).map_err(&fail)?;
+
+        let reinforcement = if layout.bar_cells.is_empty() {
+            None
+        } else {
+            let group = new_group(&mesh, "reinforcement").map_err(&fail)?;
+            let x: Vec<f64> =
+                layout.bar_nodes.iter().flat_map(|&n| [layout.node_x[n][0], layout.node_x[n][1], 0.0]).collect();
+            let geometry = writer.array(&group, "geometry", &x, 3, Some(units.length)).map_err(&fail)?;
+            let cells: Vec<i64> = layout.bar_cells.iter().flat_map(|c| [c[0] as i64, c[1] as i64]).collect();
+            let data = writer.array(&group, "topology", &cells, 2, None).map_err(&fail)?;
+            Some((geometry, Topology { kind: TopologyType::Polyline, cells: layout.bar_cells.len(), data }))
+        };
+
+        let group = new_group(&file, "history").map_err(&fail)?;
+        let series = |name: &str, unit: Option<&str>| -> hdf5::Result<Dataset> {
+            let d = writer.growing::<f64>(&group, name)?;
+            if let Some(u) = unit {
+                text_attr(&d, "unit", u)?;
+            }
+            Ok(d)
+        };
+        let counter = |name: &str| writer.growing::<u64>(&group, name);
+        let history = (|| -> hdf5::Result<History> {
+            let mut h = History {
+                time: counter("time")?,
+                stage: counter("stage")?,
+                stage_step: counter("stage_step")?,
+                load_factor: series("load_factor", Some("-"))?,
+                targets: Vec::new(),
+                len: 0,
+            };
+            let mut names: Vec<String> = Vec::new();
+            for t in targets {
+                // one group per target, named for it (a `/` in a set name cannot be part of a name)
+                let base = format!("{} ({})", t.label.replace('/', "-"), t.direction);
+                let mut name = base.clone();
+                let mut k = 1;
+                while names.contains(&name) {
+                    k += 1;
+                    name = format!("{base} {k}");
+                }
+                let g = new_group(&group, &name)?;
+                text_attr(&g, "target", t.label)?;
+                text_attr(&g, "direction", t.direction)?;
+                let d = writer.growing::<f64>(&g, "displacement")?;
+                text_attr(&d, "unit", units.length)?;
+                let r = writer.growing::<f64>(&g, "reaction")?;
+                text_attr(&r, "unit", &units.force_per_width)?;
+                h.targets.push((d, r));
+                names.push(name);
+            }
+            Ok(h)
+        })()
+        .map_err(&fail)?;
+        let results = Hdf5Results {
+            xdmf,
+            file,
+            compress,
+            units: units.clone(),
+            steps: Vec::new(),
+            soil_geometry,
+            soil_topologies: Vec::new(),
+            reinforcement,
+            interface_meshes: Vec::new(),
+            history,
+            path,
+        };
+        results.commit()?;
+        Ok(results)
+    }
+
+    /// The file's path.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// Append one step of the run to the history: its number, stage (1, 2, …), step in the stage,
+    /// load factor, and each target's mean displacement and total reaction (in `create`'s order).
+    ///
+    /// # Errors
+    /// [`Error::Write`] naming `results.h5`.
+    pub fn append_history(&mut self, time: usize, record: &StepRecord, targets: &[(f64, f64)]) -> Result<(), Error> {
+        let h = &mut self.history;
+        let n = h.len + 1;
+        let at = h.len..n;
+        let append = |d: &Dataset, v: f64| -> hdf5::Result<()> {
+            d.resize(n)?;
+            d.write_slice(&[v][..], at.clone())
+        };
+        let count = |d: &Dataset, v: usize| -> hdf5::Result<()> {
+            d.resize(n)?;
+            d.write_slice(&[v as u64][..], at.clone())
+        };
+        (|| -> hdf5::Result<()> {
+            count(&h.time, time)?;
+            count(&h.stage, record.stage_index + 1)?;
+            count(&h.stage_step, record.step)?;
+            append(&h.load_factor, record.load_factor)?;
+            for ((d, r), (u, f)) in h.targets.iter().zip(targets) {
+                append(d, *u)?;
+                append(r, *f)?;
+            }
+            Ok(())
+        })()
+        .map_err(h5_error(&self.path))?;
+        h.len = n;
+        Ok(())
+    }
+
+    /// Write the grids of kept step `time` under `/steps/<time>`; it is listed in `results.xdmf`
+    /// from the next [`commit`](Self::commit).
+    ///
+    /// # Errors
+    /// [`Error::Write`] naming `results.h5`.
+    pub fn write_step(
+        &mut self,
+        time: usize,
+        record: &StepRecord,
+        layout: &GridLayout,
+        grids: &StepGrids,
+    ) -> Result<(), Error> {
+        let fail = h5_error(&self.path);
+        let steps = self.file.group("steps").map_err(&fail)?;
+        let group = new_group(&steps, &format!("{time:04}")).map_err(&fail)?;
+        text_attr(&group, "stage", &record.stage).map_err(&fail)?;
+        number_attr(&group, "stage_step", record.step as u64).map_err(&fail)?;
+        number_attr(&group, "load_factor", record.load_factor).map_err(&fail)?;
+        let mut kept = KeptStep { time, label: format!("{} step {}", record.stage, record.step), grids: Vec::new() };
+        let soil = self.soil_step(&group, layout, grids).map_err(&fail)?;
+        kept.grids.push(("soil", soil));
+        if let Some(reinforcement) = self.reinforcement_step(&group, grids).map_err(&fail)? {
+            kept.grids.push(("reinforcement", reinforcement));
+        }
+        if let Some(interface) = self.interface_step(&group, grids).map_err(&fail)? {
+            kept.grids.push(("interface", interface));
+        }
+        let at = self.steps.partition_point(|s| s.time < time);
+        self.steps.insert(at, kept);
+        Ok(())
+    }
+
+    /// Make what was written so far durable, then list its kept steps in `results.xdmf`: the HDF5
+    /// file is flushed and synced first, the index rewritten atomically after.
+    ///
+    /// # Errors
+    /// [`Error::Write`] naming `results.h5` or `results.xdmf`.
+    pub fn commit(&self) -> Result<(), Error> {
+        self.file.flush().map_err(h5_error(&self.path))?;
+        std::fs::File::open(&self.path)
+            .and_then(|f| f.sync_data())
+            .map_err(|source| Error::Write { path: self.path.clone(), source })?;
+        write_atomically(&self.xdmf, xdmf::document(H5_NAME, &self.steps).as_bytes())
+    }
+
+    fn soil_step(&mut self, step: &Group, layout: &GridLayout, grids: &StepGrids) -> hdf5::Result<GridStep> {
+        let g = &grids.soil;
+        let cells = match self.soil_topologies.iter().find(|(present, _)| *present == g.present) {
+            Some((_, cells)) => cells.clone(),
+            None => {
+                let cells = self.soil_cells(layout, grids)?;
+                self.soil_topologies.push((g.present.clone(), cells.clone()));
+                cells
+            }
+        };
+        let group = new_group(&step, "soil")?;
+        group.link_soft(&self.soil_geometry.path, "geometry")?;
+        group.link_soft(&cells.topology.data.path, "topology")?;
+        group.link_soft(&cells.element_id.path, "element_id")?;
+        group.link_soft(&cells.material.path, "material")?;
+        let w = ArrayWriter { compress: self.compress };
+        let u = &self.units;
+        let (length, stress) = (Some(u.length), Some(u.stress.as_str()));
+        let fields = vec![
+            Field {
+                name: "displacement",
+                center: Center::Node,
+                data: w.array(&group, "displacement", &g.displacement.concat(), 3, length)?,
+            },
+            Field {
+                name: "stress",
+                center: Center::Cell,
+                data: w.array(&group, "stress", &g.stress.concat(), 6, stress)?,
+            },
+            Field {
+                name: "strain",
+                center: Center::Cell,
+                data: w.array(&group, "strain", &g.strain.concat(), 6, Some("-"))?,
+            },
+            Field {
+                name: "pore_pressure",
+                center: Center::Cell,
+                data: w.array(&group, "pore_pressure", &g.pore_pressure, 1, stress)?,
+            },
+            Field {
+                name: "plastic_fraction",
+                center: Center::Cell,
+                data: w.array(&group, "plastic_fraction", &g.plastic_fraction, 1, Some("-"))?,
+            },
+            Field {
+                name: "plastic_strain",
+                center: Center::Cell,
+                data: w.array(&group, "plastic_strain", &g.plastic_strain, 1, Some("-"))?,
+            },
+            Field { name: "material", center: Center::Cell, data: cells.material },
+            Field { name: "element_id", center: Center::Cell, data: cells.element_id },
+        ];
+        Ok(GridStep { topology: cells.topology, geometry: self.soil_geometry.clone(), fields })
+    }
+
+    /// The cells of the soil elements present in `grids` (one kind as a cells × nodes table,
+    /// several as XDMF's `Mixed` list), their ids and materials, as `/mesh/soil/*-<k>`.
+    fn soil_cells(&self, layout: &GridLayout, grids: &StepGrids) -> hdf5::Result<SoilCells> {
+        let group = self.file.group("mesh/soil")?;
+        let k = self.soil_topologies.len() + 1;
+        let present = &grids.soil.present;
+        let w = ArrayWriter { compress: self.compress };
+        let element_id = w.array(&group, &format!("element_id-{k}"), &grids.soil.element_id, 1, None)?;
+        let material = w.array(&group, &format!("material-{k}"), &grids.soil.material, 1, None)?;
+        let name = format!("topology-{k}");
+        let kinds: Vec<SolidKind> = present.iter().map(|&i| layout.soil_cells[i].0).collect();
+        let single = kinds.first().filter(|k| kinds.iter().all(|other| other == *k));
+        let (kind, data) = match single {
+            Some(&kind) => {
+                let per_cell = layout.soil_cells[present[0]].1.len();
+                let cells: Vec<i64> =
+                    present.iter().flat_map(|&i| layout.soil_cells[i].1.iter().map(|&n| n as i64)).collect();
+                (TopologyType::of(kind), w.array(&group, &name, &cells, per_cell, None)?)
+            }
+            None => {
+                let mut cells = Vec::new();
+                for &i in present {
+                    let (kind, nodes) = &layout.soil_cells[i];
+                    cells.push(TopologyType::mixed_id(*kind));
+                    cells.extend(nodes.iter().map(|&n| n as i64));
+                }
+                (TopologyType::Mixed, w.array(&group, &name, &cells, 1, None)?)
+            }
+        };
+        Ok(SoilCells { topology: Topology { kind, cells: present.len(), data }, element_id, material })
+    }
+
+    fn reinforcement_step(&self, step: &Group, grids: &StepGrids) -> hdf5::Result<Option<GridStep>> {
+        let Some((geometry, topology)) = &self.reinforcement else { return Ok(None) };
+        let g = &grids.reinforcement;
+        let group = new_group(&step, "reinforcement")?;
+        group.link_soft(&geometry.path, "geometry")?;
+        group.link_soft(&topology.data.path, "topology")?;
+        let w = ArrayWriter { compress: self.compress };
+        let fields = vec![
+            Field {
+                name: "displacement",
+                center: Center::Node,
+                data: w.array(&group, "displacement", &g.displacement.concat(), 3, Some(self.units.length))?,
+            },
+            Field {
+                name: "axial_force",
+                center: Center::Cell,
+                data: w.array(&group, "axial_force", &g.axial_force, 1, Some(&self.units.force_per_width))?,
+            },
+            Field { name: "state", center: Center::Cell, data: w.array(&group, "state", &g.state, 1, None)? },
+            Field { name: "bar_id", center: Center::Cell, data: w.array(&group, "bar_id", &g.bar_id, 1, None)? },
+        ];
+        Ok(Some(GridStep { topology: topology.clone(), geometry: geometry.clone(), fields }))
+    }
+
+    fn interface_step(&mut self, step: &Group, grids: &StepGrids) -> hdf5::Result<Option<GridStep>> {
+        let g = &grids.interface;
+        if g.x.is_empty() {
+            return Ok(None);
+        }
+        let (geometry, topology) = match self.interface_meshes.iter().find(|(x, _, _)| *x == g.x) {
+            Some((_, geometry, topology)) => (geometry.clone(), topology.clone()),
+            None => {
+                let k = self.interface_meshes.len() + 1;
+                let mesh = self.file.group("mesh")?;
+                let group = match mesh.group("interface") {
+                    Ok(group) => group,
+                    Err(_) => new_group(&mesh, "interface")?,
+                };
+                let w = ArrayWriter { compress: self.compress };
+                let x: Vec<f64> = g.x.iter().flat_map(|p| [p[0], p[1], 0.0]).collect();
+                let geometry = w.array(&group, &format!("geometry-{k}"), &x, 3, Some(self.units.length))?;
+                let vertices: Vec<i64> = (0..g.x.len() as i64).collect();
+                let data = w.array(&group, &format!("topology-{k}"), &vertices, 1, None)?;
+                let topology = Topology { kind: TopologyType::Polyvertex, cells: g.x.len(), data };
+                self.interface_meshes.push((g.x.clone(), geometry.clone(), topology.clone()));
+                (geometry, topology)
+            }
+        };
+        let group = new_group(&step, "interface")?;
+        let faces: Vec<VarLenUnicode> = g.face_names.iter().filter_map(|f| f.replace('\0', "").parse().ok()).collect();
+        group.new_attr_builder().with_data(faces.as_slice()).create("faces")?;
+        group.link_soft(&geometry.path, "geometry")?;
+        group.link_soft(&topology.data.path, "topology")?;
+        let w = ArrayWriter { compress: self.compress };
+        let u = &self.units;
+        let (length, stress) = (Some(u.length), Some(u.stress.as_str()));
+        let node = |name: &'static str, data: DataRef| Field { name, center: Center::Node, data };
+        let face = w.array(&group, "face", &g.face, 1, None)?;
+        let fields = vec![
+            node("displacement", w.array(&group, "displacement", &g.displacement.concat(), 3, length)?),
+            node("lambda", w.array(&group, "lambda", &g.lambda, 1, Some(&u.force_per_width))?),
+            node("sigma_n", w.array(&group, "sigma_n", &g.sigma_n, 1, stress)?),
+            node("tau", w.array(&group, "tau", &g.tau, 1, stress)?),
+            node("slip", w.array(&group, "slip", &g.slip, 1, length)?),
+            node("state", w.array(&group, "state", &g.state, 1, None)?),
+            node("face", face.clone()),
+            // one vertex cell per point: the cells' face is the points'
+            Field { name: "face", center: Center::Cell, data: face },
+        ];
+        Ok(Some(GridStep { topology, geometry, fields }))
+    }
+}
+
+/// A numeric type of a dataset, with its XDMF number type.
+trait Stored: H5Type + Copy {
+    const NUMBER: NumberType;
+}
+impl Stored for f64 {
+    const NUMBER: NumberType = NumberType::Float8;
+}
+impl Stored for i32 {
+    const NUMBER: NumberType = NumberType::Int4;
+}
+impl Stored for i64 {
+    const NUMBER: NumberType = NumberType::Int8;
+}
+impl Stored for u64 {
+    const NUMBER: NumberType = NumberType::UInt8;
+}
+
+/// Writes datasets, chunked and compressed when the library can.
+struct ArrayWriter {
+    compress: bool,
+}
+
+impl ArrayWriter {
+    /// `data` as a `rows × columns` dataset `name` of `group` (one-dimensional for one column),
+    /// with its `unit` as an attribute.
+    fn array<T: Stored>(
+        &self,
+        group: &Group,
+        name: &str,
+        data: &[T],
+        columns: usize,
+        unit: Option<&str>,
+    ) -> hdf5::Result<DataRef> {
+        let rows = data.len() / columns.max(1);
+        let dims = if columns == 1 { vec![rows] } else { vec![rows, columns] };
+        let mut builder = group.new_dataset::<T>().shape(dims.clone());
+        if self.compress && data.len() >= SMALL_VALUES {
+            let chunk_rows = rows.min((CHUNK_VALUES / columns.max(1)).max(1));
+            let chunk = if columns == 1 { vec![chunk_rows] } else { vec![chunk_rows, columns] };
+            builder = builder.chunk(chunk).deflate(DEFLATE_LEVEL);
+        }
+        let dataset = builder.create(name)?;
+        if rows > 0 {
+            dataset.write_raw(data)?;
+        }
+        if let Some(u) = unit {
+            text_attr(&dataset, "unit", u)?;
+        }
+        Ok(DataRef { path: dataset.name(), dims, number: T::NUMBER })
+    }
+
+    /// An empty one-dimensional dataset that grows by one entry a step.
+    fn growing<T: Stored>(&self, group: &Group, name: &str) -> hdf5::Result<Dataset> {
+        let mut builder = group.new_dataset::<T>().shape(0..).chunk(HISTORY_CHUNK);
+        if self.compress {
+            builder = builder.deflate(DEFLATE_LEVEL);
+        }
+        builder.create(name)
+    }
+}
+
+/// A group of `parent`, without modification times.
+fn new_group(parent: &Group, name: &str) -> hdf5::Result<Group> {
+    parent.create_group_builder().obj_track_times(false).create(name)
+}
+
+fn text_attr(location: &Location, name: &str, value: &str) -> hdf5::Result<()> {
+    let text: VarLenUnicode = value.replace('\0', "").parse().map_err(|e| hdf5::Error::from(format!("{e}")))?;
+    location.new_attr::<VarLenUnicode>().create(name)?.write_scalar(&text)
+}
+
+fn number_attr<T: H5Type>(location: &Location, name: &str, value: T) -> hdf5::Result<()> {
+    location.new_attr::<T>().create(name)?.write_scalar(&value)
+}
+
+/// The error of a failed HDF5 call on `path`.
+fn h5_error(path: &Path) -> impl Fn(hdf5::Error) -> Error {
+    let path = path.to_path_buf();
+    move |e| Error::Write { path: path.clone(), source: std::io::Error::other(format!("HDF5: {e}")) }
+}
