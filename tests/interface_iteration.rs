@@ -49,22 +49,12 @@ fn run(model: &Model, backend: Backend, condense: bool) -> (Collect, geoslip::li
     (sink, stats)
 }
 
-/// The head's pull-out force in each pull step.
-fn head_forces(model: &Model, c: &Collect) -> Vec<f64> {
-    let head: Vec<u64> = model.node_sets["grid.head"].iter().map(|&n| model.mesh.node_id(n)).collect();
-    c.steps
-        .iter()
-        .skip(1)
-        .map(|(_, s)| s.reactions.iter().filter(|r| head.contains(&r.node)).filter_map(|r| r.rx).sum::<f64>().abs())
-        .collect()
-}
-
 #[test]
 fn the_condensed_iteration_reaches_the_full_systems_equilibrium_on_every_backend() {
     for scheme in [Scheme::ConstantStiffness, Scheme::Newton] {
         let model = frictional_pullout(scheme);
         let (reference, _) = run(&model, Backend::Dense, true);
-        let expected = head_forces(&model, &reference);
+        let expected = common::head_forces(&model, &reference, "grid.head");
         for backend in Backend::available().into_iter().filter(|&b| b != Backend::Dense) {
             for condense in [true, false] {
                 let (c, stats) = run(&model, backend, condense);
@@ -74,7 +64,7 @@ fn the_condensed_iteration_reaches_the_full_systems_equilibrium_on_every_backend
                     "{} {scheme:?}: condensed {condense}",
                     backend.name()
                 );
-                let forces = head_forces(&model, &c);
+                let forces = common::head_forces(&model, &c, "grid.head");
                 assert_eq!(forces.len(), expected.len());
                 for (k, (f, e)) in forces.iter().zip(&expected).enumerate() {
                     assert!(
@@ -128,14 +118,13 @@ fn the_interface_iteration_needs_few_sparse_solves() {
 fn the_sliding_grid_carries_the_coulomb_force() {
     let model = frictional_pullout(Scheme::Newton);
     let (c, _) = run(&model, Backend::available()[0], true);
-    let last = *head_forces(&model, &c).last().unwrap();
+    let last = *common::head_forces(&model, &c, "grid.head").last().unwrap();
     // the length in contact at the end: the grid's 0.8 m less what has left the box at the front
-    // (the head's 40 mm less the grid's stretch), less at most one element (0.025 m) for the half
-    // tributaries at the two ends (the front point's and the tail's, which shares its soil node);
-    // bound the force between the full and the shortest length
+    // (the head's 40 mm less the grid's stretch), less at most half an element (0.0125 m) for the
+    // front point's half tributary; bound the force between the full and the shortest length
     let (q, phi) = (10.0f64, 30f64.to_radians());
     let full = 2.0 * q * phi.tan() * 0.8;
-    let shortened = 2.0 * q * phi.tan() * (0.8 - 0.04 - 0.025);
+    let shortened = 2.0 * q * phi.tan() * (0.8 - 0.04 - 0.0125);
     assert!(
         last <= full * (1.0 + 1e-6) && last >= shortened * (1.0 - 1e-6),
         "sliding force {last} kN/m, expected between {shortened} and {full}"

@@ -218,7 +218,8 @@ fn linearise(
                 .zip(&springs)
                 .map(|(s, r)| {
                     let p = &state.interfaces[s.interface].faces[s.face].points[s.point];
-                    if matches!(p.normal_state, NormalState::Active) {
+                    // (a point whose σn is its neighbour's gets no coupling to its own multiplier)
+                    if matches!(p.normal_state, NormalState::Active) && p.pressure_from.is_none() {
                         r.response.d_tau_d_sigma
                     } else {
                         0.0

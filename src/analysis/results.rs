@@ -2,6 +2,7 @@
 //! and soil stresses, with the sign conventions of docs/model-format.md.
 
 pub use super::soil::ElementStress;
+use super::springs::SpringResult;
 use super::state::State;
 use crate::assembly::{internal_force, ElementMatrices, SoilView};
 use crate::element::soil_state::SoilTrial;
@@ -40,7 +41,9 @@ pub struct InterfacePointResult {
     pub tributary: f64,
     /// Normal multiplier (force per metre width), compression positive.
     pub lambda: f64,
-    /// σn = λ/ℓ, compression positive.
+    /// The total normal stress the shear law used, compression positive: λ/ℓ, or its value frozen
+    /// at the start of the stage; a point at a slit tip takes its neighbour's. λ/ℓ for a tied point
+    /// and for a point out of contact.
     pub sigma_n: f64,
     /// Shear stress resisting positive slip.
     pub tau: f64,
@@ -71,8 +74,7 @@ impl StepResults {
         model: &Model,
         elements: &ElementMatrices,
         rows: &InterfaceRows,
-        taus: &[f64],
-        sliding: &[bool],
+        springs: &[SpringResult],
         state: &State,
         soil: &SoilTrial,
         held: &[bool],
@@ -80,7 +82,8 @@ impl StepResults {
         let mesh = &model.mesh;
         let n_dof = state.u.len();
         let view = SoilView { field: &state.soil, trial: soil };
-        let f_int = internal_force(elements, view, rows, taus, &state.bars, &state.u);
+        let taus: Vec<f64> = springs.iter().map(|r| r.tau).collect();
+        let f_int = internal_force(elements, view, rows, &taus, &state.bars, &state.u);
         let f_c = constraint_force(rows, &state.lambda, n_dof);
         let reaction_vector: Vec<f64> =
             (0..n_dof).map(|d| if held[d] { f_int[d] + f_c[d] - state.f_ext[d] } else { 0.0 }).collect();
@@ -133,18 +136,20 @@ impl StepResults {
                 for point in &face.points {
                     let lambda = state.lambda[k];
                     k += 1;
-                    let (tau, sliding) = match &face.law {
+                    let lambda_stress = if point.tributary > 0.0 { lambda / point.tributary } else { 0.0 };
+                    let (tau, sliding, sigma_n) = match &face.law {
                         ShearLaw::Tie => {
                             let lt = state.lambda[k];
                             k += 1;
-                            (lt / point.tributary.max(f64::MIN_POSITIVE), false)
+                            (lt / point.tributary.max(f64::MIN_POSITIVE), false, lambda_stress)
                         }
                         _ => {
                             spring += 1;
-                            (
-                                taus.get(spring - 1).copied().unwrap_or(0.0),
-                                sliding.get(spring - 1).copied().unwrap_or(false),
-                            )
+                            match springs.get(spring - 1) {
+                                Some(r) if point.in_contact() => (r.tau, r.sliding, r.sigma_n),
+                                Some(r) => (r.tau, r.sliding, lambda_stress),
+                                None => (0.0, false, lambda_stress),
+                            }
                         }
                     };
                     let slip = if interface.is_tie() {
@@ -165,7 +170,7 @@ impl StepResults {
                         state: point.normal_state.name(),
                         tributary: point.tributary,
                         lambda,
-                        sigma_n: if point.tributary > 0.0 { lambda / point.tributary } else { 0.0 },
+                        sigma_n,
                         tau,
                         slip,
                         post_peak: point.shear.post_peak,

@@ -14,14 +14,26 @@ pub struct SpringResult {
     pub point: usize,
     pub response: ShearResponse,
     pub tau: f64,
+    /// The total normal stress the law used (current, frozen, or a slit tip's neighbour's); the
+    /// law itself takes it less the pore pressure.
     pub sigma_n: f64,
     pub sliding: bool,
 }
 
 /// σn = λ/ℓ of a spring's point (compression positive); a redundant row's force is carried by
-/// another row, whose σn it shares.
+/// another row, whose σn it shares; a point at a slit tip, in contact, takes its neighbour's
+/// ([`crate::interface::ContactPoint::pressure_from`]).
 pub fn normal_stress(state: &State, rows: &InterfaceRows, spring: &Spring) -> f64 {
     let p = &state.interfaces[spring.interface].faces[spring.face].points[spring.point];
+    if let Some(from) = p.pressure_from.filter(|_| p.in_contact()) {
+        let neighbour = rows.springs.iter().find(|s| {
+            (s.interface, s.face, s.point) == (spring.interface, spring.face, from)
+                && state.interfaces[s.interface].faces[s.face].points[s.point].pressure_from.is_none()
+        });
+        if let Some(neighbour) = neighbour {
+            return normal_stress(state, rows, neighbour);
+        }
+    }
     match &p.normal_state {
         NormalState::Active => state.lambda[spring.normal_multiplier] / spring.tributary.max(f64::MIN_POSITIVE),
         NormalState::Redundant { multiplier: Some(carrier), .. } => {
@@ -48,7 +60,7 @@ pub fn evaluate(state: &State, rows: &InterfaceRows) -> Vec<SpringResult> {
                 None => normal_stress(state, rows, s),
             };
             // the strength acts on the effective normal stress σn′ = σn − p
-            let sigma_n = match &state.soil.water {
+            let effective = match &state.soil.water {
                 Some(w) => {
                     let at = [s.position[0] + state.u[2 * s.slave], s.position[1] + state.u[2 * s.slave + 1]];
                     sigma_n - w.pressure(at)
@@ -56,7 +68,7 @@ pub fn evaluate(state: &State, rows: &InterfaceRows) -> Vec<SpringResult> {
                 None => sigma_n,
             };
             let response = if p.in_contact() {
-                interface.faces[s.face].law.response(&p.shear, slip, sigma_n)
+                interface.faces[s.face].law.response(&p.shear, slip, effective)
             } else {
                 // Out of contact: no shear; the slip goes on accumulating and restarts elastic.
                 let mut st = p.shear.clone();

@@ -164,9 +164,7 @@ pub fn complete_increment(
     soil::commit(&mut state.soil, &report.soil);
     let output_started = Instant::now();
     let rows = InterfaceRows::new(&model.mesh, &state.interfaces, &stage.dofs.multipliers);
-    let taus: Vec<f64> = report.springs.iter().map(|r| r.tau).collect();
-    let sliding: Vec<bool> = report.springs.iter().map(|r| r.sliding).collect();
-    let results = StepResults::compute(model, &cx.elements, &rows, &taus, &sliding, state, &report.soil, &cx.held);
+    let results = StepResults::compute(model, &cx.elements, &rows, &report.springs, state, &report.soil, &cx.held);
     let balance = reinforcement_balance(model, &results, state);
     cx.system.stats.output_seconds += output_started.elapsed().as_secs_f64();
     let search_started = Instant::now();

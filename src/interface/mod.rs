@@ -75,6 +75,12 @@ pub struct ContactPoint {
     /// The lower face's point at a slit tip (a reinforcement tail inside the soil): both faces meet
     /// at one soil node there, so its normal row always repeats the upper face's and is carried by it.
     pub slit_tip: bool,
+    /// The point of the same face whose normal stress this point's shear law takes. At a slit tip
+    /// the faces meet at one soil node: the one row there holds the reinforcement's tail against
+    /// that node, and its multiplier is the difference of the faces' pressures (about zero), not the
+    /// pressure on either face; the tail's tributary length then takes its neighbour's σn, so that
+    /// the reinforcement has friction to its tail.
+    pub pressure_from: Option<usize>,
     /// Master segments `lo..=hi` whose nodes the point's rows keep in the sparsity pattern (as zeros
     /// where they carry nothing), so that sliding within them needs no new analysis; `None`: only
     /// the current segment. Set by [`reserve_windows`].
@@ -338,6 +344,7 @@ pub(crate) fn points_on(mesh: &Mesh, face_master: &[NodeIndex], slave: &[NodeInd
                 gap0: 0.0,
                 shear: Default::default(),
                 slit_tip: false,
+                pressure_from: None,
                 reserved: None,
             }
         })

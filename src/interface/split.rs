@@ -170,6 +170,13 @@ pub fn split_reinforcement(
         if let Some(p) = faces.last_mut().and_then(|f| f.points.last_mut()) {
             p.slit_tip = true;
         }
+        // and no face's row there measures that face's pressure: the tail takes its neighbour's
+        for face in faces.iter_mut() {
+            let n = face.points.len();
+            if n >= 2 {
+                face.points[n - 1].pressure_from = Some(n - 2);
+            }
+        }
     }
     // The slit: the right side's doubled nodes against the left side's face. The reinforcement fills
     // it now; behind a sliding tail its two soil faces must not pass through each other.

@@ -27,6 +27,16 @@ pub fn interface_state_code(normal_state: &str, sliding: bool, post_peak: bool) 
     }
 }
 
+/// The contact state of an [`interface_state_code`], as interface.csv writes it.
+pub fn contact_name(code: i32) -> &'static str {
+    match code {
+        0 => "stick",
+        1 => "slip",
+        3 => "residual",
+        _ => "open",
+    }
+}
+
 /// A bar's state written as an integer: 0 intact (or not placed yet), 1 slack, 2 ruptured.
 pub fn bar_state_code(state: &str) -> i32 {
     match state {

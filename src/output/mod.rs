@@ -638,6 +638,7 @@ impl ResultWriter {
                     format!("sigma_n [{s}]"),
                     format!("tau [{s}]"),
                     format!("slip [{l}]"),
+                    "contact".into(),
                 ]),
                 r.interface_points.iter().map(|p| {
                     vec![
@@ -655,6 +656,7 @@ impl ResultWriter {
                         num(p.sigma_n),
                         num(p.tau),
                         num(p.slip),
+                        grids::contact_name(grids::interface_state_code(p.state, p.sliding, p.post_peak)).to_string(),
                     ]
                 }),
             ),

@@ -21,6 +21,17 @@ pub fn run(model: &Model, backend: Backend) -> Collect {
     sink
 }
 
+/// The pull-out force at the nodes of `head` (a node set) in each step after the first: the sum of
+/// their x reactions, as a magnitude.
+pub fn head_forces(model: &Model, c: &Collect, head: &str) -> Vec<f64> {
+    let head: Vec<u64> = model.node_sets[head].iter().map(|&n| model.mesh.node_id(n)).collect();
+    c.steps
+        .iter()
+        .skip(1)
+        .map(|(_, s)| s.reactions.iter().filter(|r| head.contains(&r.node)).filter_map(|r| r.rx).sum::<f64>().abs())
+        .collect()
+}
+
 /// Displacement of node `id` in the last step.
 pub fn displacement(c: &Collect, id: u64) -> [f64; 2] {
     let r = c.last().expect("at least one step");
