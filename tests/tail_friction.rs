@@ -15,28 +15,11 @@ mod common;
 
 use geoslip::linsol::Backend;
 use geoslip::meshgen::PullOutBox;
-use geoslip::model::file::ShearLawSpec;
 
 #[test]
 fn a_fully_sliding_two_face_reinforcement_carries_two_tau_l() {
-    let mut file = PullOutBox {
-        length: 2.0,
-        height: 1.0,
-        embedded: 1.6,
-        nx: 20,
-        ny_half: 5,
-        youngs_modulus: 10_000.0,
-        poissons_ratio: 0.3,
-        unit_weight: 0.0,
-        axial_stiffness: 1.0e6,
-        law: ShearLawSpec::Coulomb { shear_stiffness: 2000.0, cohesion: 0.0, friction_angle: 30.0 },
-        surcharge: 20.0,
-        pull: 0.01,
-        steps: 10,
-        ..PullOutBox::default()
-    }
-    .model();
-    file.analysis.freeze_normal_stress = true;
+    let mut file = PullOutBox { axial_stiffness: 1.0e6, pull: 0.01, steps: 10, ..common::issue_pullout_box() }.model();
+    file.stages[1].freeze_normal_stress = Some(true);
     let model = common::model(&file, "tail-friction.toml");
     let c = common::run(&model, Backend::available()[0]);
     // the tail's points (on both faces) slide under the frozen σn, and report it as the σn used

@@ -125,15 +125,20 @@ fn condenses(options: &RunOptions, setup: &SoilSetup) -> bool {
 /// Whether every matrix of the run is symmetric, so that the solver may factorise it as LDLᵀ (MUMPS
 /// SYM=2, on the lower triangle) rather than LU. The constant-stiffness and newton-symmetric schemes
 /// always are. Newton's consistent tangent is unsymmetric only where τ is coupled to σn (a law with
-/// friction, with σn not frozen: frozen from the first stage on, unless that stage is a
-/// strength-reduction search, which starts unfrozen) or where Mohr–Coulomb soil flows
+/// friction, with σn not frozen: frozen in every stage that loads, from the first on, unless that
+/// stage is a strength-reduction search, which starts unfrozen) or where Mohr–Coulomb soil flows
 /// non-associatively (ψ ≠ φ, the return map's tangent).
 fn symmetric_tangent(model: &Model, options: &RunOptions) -> bool {
     if options.analysis.scheme != Scheme::Newton {
         return true;
     }
-    let frozen =
-        options.analysis.freeze_normal_stress && model.stages.first().is_some_and(|s| s.strength_reduction.is_none());
+    // (a strength-reduction stage keeps the σn frozen by the stage before it)
+    let frozen = model.stages.first().is_some_and(|s| s.strength_reduction.is_none())
+        && model
+            .stages
+            .iter()
+            .filter(|s| s.strength_reduction.is_none())
+            .all(|s| s.freeze_normal_stress.unwrap_or(options.analysis.freeze_normal_stress));
     let coupled = !frozen && model.interfaces.iter().flat_map(|i| &i.faces).any(|f| f.law.is_frictional());
     !coupled && !model.has_non_associated_soil()
 }

@@ -108,10 +108,14 @@ pub fn increments(
 ) -> Result<(), Error> {
     let (model, plan) = (cx.model, stage.plan);
     let u_start = state.u.clone();
-    state.frozen_sigma_n = cx.options.analysis.freeze_normal_stress.then(|| {
+    let freeze = plan.freeze_normal_stress.unwrap_or(cx.options.analysis.freeze_normal_stress);
+    state.frozen_sigma_n = None;
+    if freeze {
         let rows = InterfaceRows::new(&model.mesh, &state.interfaces, &stage.dofs.multipliers);
-        rows.springs.iter().map(|s| normal_stress(state, &rows, s)).collect()
-    });
+        let frozen: Vec<f64> = rows.springs.iter().map(|s| normal_stress(state, &rows, s)).collect();
+        warn_of_unloaded_freeze(cx, state, plan, &rows, &frozen);
+        state.frozen_sigma_n = Some(frozen);
+    }
     let mut targets: Vec<f64> = plan.load_factors.clone();
     let mut reached = 0.0;
     let mut step = 0;
@@ -147,6 +151,28 @@ pub fn increments(
         }
     }
     Ok(())
+}
+
+/// A stage that freezes σn where no interface point in contact is compressed yet (a surcharge
+/// stage, before the surcharge) leaves its faces the cohesion alone: say so in the run's warnings.
+fn warn_of_unloaded_freeze(cx: &mut Context, state: &State, plan: &StagePlan, rows: &InterfaceRows, frozen: &[f64]) {
+    let in_contact: Vec<f64> = rows
+        .springs
+        .iter()
+        .zip(frozen)
+        .filter(|(s, _)| state.interfaces[s.interface].faces[s.face].points[s.point].in_contact())
+        .map(|(_, &f)| f)
+        .collect();
+    let unloaded = in_contact.iter().filter(|&&f| !(f > 0.0)).count();
+    if unloaded > 0 && unloaded == in_contact.len() {
+        let warning = format!(
+            "stage \"{}\" freezes σn at its start, where no interface point in contact is compressed yet ({unloaded} points at σn ≤ 0): their shear strength through the stage is the cohesion alone; set freeze_normal_stress = false on that stage",
+            plan.name
+        );
+        if !cx.system.stats.warnings.contains(&warning) {
+            cx.system.stats.warnings.push(warning);
+        }
+    }
 }
 
 /// Commit a converged increment (shear states and soil stresses), hand its results to the sink, and

@@ -110,7 +110,8 @@ pub struct AnalysisSettings {
     pub max_iterations: usize,
     /// How many times a failing increment may be halved.
     pub max_cutbacks: usize,
-    /// Hold σn at its value at the start of each stage.
+    /// Hold σn at its value at the start of each stage (a stage's own `freeze_normal_stress`
+    /// overrides it).
     pub freeze_normal_stress: bool,
     /// Master segments reserved on either side of each interface point in the sparsity pattern, so
     /// that sliding within them needs no new symbolic analysis (0: none).
@@ -484,6 +485,10 @@ pub struct Stage {
     /// the strengths are divided by a factor F, raised until no equilibrium exists.
     #[serde(default)]
     pub strength_reduction: Option<StrengthReductionSpec>,
+    /// Hold each interface point's σn at its value at the start of this stage (`true`) or let it
+    /// follow the multipliers (`false`); absent: the analysis's `freeze_normal_stress`.
+    #[serde(default)]
+    pub freeze_normal_stress: Option<bool>,
 }
 
 /// The factor of safety by strength reduction: c and tan φ are divided by F (c/F, tan φ/F) in the
@@ -555,6 +560,7 @@ impl Default for Stage {
             initial_stress: None,
             water: None,
             strength_reduction: None,
+            freeze_normal_stress: None,
         }
     }
 }

@@ -129,6 +129,8 @@ pub struct StagePlan {
     pub water: Option<Option<WaterTable>>,
     /// A search for the factor of safety instead of a loading.
     pub strength_reduction: Option<StrengthReduction>,
+    /// The stage's own `freeze_normal_stress`, if it sets one.
+    pub freeze_normal_stress: Option<bool>,
 }
 
 /// A checked strength-reduction stage.

@@ -32,6 +32,33 @@ pub fn head_forces(model: &Model, c: &Collect, head: &str) -> Vec<f64> {
         .collect()
 }
 
+/// The pull-out box of issue #16: a 2 m × 1 m weightless elastic block (E = 10 MPa, ν = 0.3) of
+/// 20 × 10 quad4 (h = 0.1 m), a grid at mid-height from x = 0 to 1.6 m on the soil's nodes (EA = 500
+/// kN/m), Coulomb faces (Ks = 2000 kPa/m, c = 0, φ = 30°), q = 20 kPa; the head pulled 20 mm in 40
+/// steps.
+pub fn issue_pullout_box() -> geoslip::meshgen::PullOutBox {
+    geoslip::meshgen::PullOutBox {
+        length: 2.0,
+        height: 1.0,
+        embedded: 1.6,
+        nx: 20,
+        ny_half: 5,
+        youngs_modulus: 10_000.0,
+        poissons_ratio: 0.3,
+        unit_weight: 0.0,
+        axial_stiffness: 500.0,
+        law: geoslip::model::file::ShearLawSpec::Coulomb {
+            shear_stiffness: 2000.0,
+            cohesion: 0.0,
+            friction_angle: 30.0,
+        },
+        surcharge: 20.0,
+        pull: 0.02,
+        steps: 40,
+        ..geoslip::meshgen::PullOutBox::default()
+    }
+}
+
 /// Displacement of node `id` in the last step.
 pub fn displacement(c: &Collect, id: u64) -> [f64; 2] {
     let r = c.last().expect("at least one step");

@@ -82,6 +82,7 @@ pub(super) fn stages(d: &mut Draft, file: &ModelFile, p: &mut Problems) {
             activate_bars,
             k0: s.initial_stress == Some(InitialStress::K0),
             water,
+            freeze_normal_stress: s.freeze_normal_stress,
         });
     }
 }
