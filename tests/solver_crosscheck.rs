@@ -15,10 +15,13 @@
 //! `+1, −(1−ξ), −ξ` (node-to-segment ties). Some systems are made rank deficient by repeating a row.
 //!
 //! Goal: on a regular system every backend (MUMPS SYM=2 and SYM=0, UMFPACK, faer) agrees with the
-//! reference to 1e-10 relative. On a rank-deficient one the reference and MUMPS (null-pivot
+//! reference to 1e-10 relative. On one made rank deficient the reference and MUMPS (null-pivot
 //! detection, ICNTL(24)) report it singular; the LU backends report it singular, or, since the
 //! repeated row makes the system consistent, return a solution that satisfies it (partial pivoting
-//! cannot certify a rank deficiency; geoslip's own diagnostics then name the free unknowns).
+//! cannot certify a rank deficiency; geoslip's own diagnostics then name the free unknowns). The
+//! random ties can also be dependent by chance (tests/solver_crosscheck.proptest-regressions keeps
+//! one such case, where MUMPS's null-pivot threshold passed a consistent dependency): there the
+//! reference reports singular and every backend may return a solution that satisfies the system.
 
 use geoslip::linsol::csc::{CscMatrix, PatternCache, Triplets};
 use geoslip::linsol::{self, Backend, Failure, LinearSolver};
@@ -164,7 +167,15 @@ proptest! {
                 (Err(_), Err(Failure::Singular { .. })) => {}
                 (Err(_), Err(e)) => prop_assert!(false, "{name}: failed with {e:?} instead of reporting singular"),
                 (Err(_), Ok(x)) => {
-                    prop_assert!(!name.starts_with("mumps"), "{name}: null-pivot detection missed a rank deficiency");
+                    // MUMPS must find the repeated row the system was made with; a dependency that
+                    // the random ties made by chance (a row repeated up to sign, or a combination
+                    // of several) is consistent, and a solution that satisfies it is accepted from
+                    // every backend (geoslip finds repeated rows itself before solving:
+                    // interface::active_set)
+                    prop_assert!(
+                        !(s.rank_deficient && name.starts_with("mumps")),
+                        "{name}: null-pivot detection missed the repeated row"
+                    );
                     let r = linsol::relative_residual(&s.matrix, &x, &s.rhs);
                     prop_assert!(r < 1e-8, "{name}: returned a non-solution of a singular system (residual {r:e})");
                 }
