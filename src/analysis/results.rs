@@ -225,7 +225,8 @@ pub fn reinforcement_balance(model: &Model, results: &StepResults, state: &State
         slaves.dedup();
         let mut carried = [0.0; 2];
         for face in &interface.faces {
-            let between_layers = face.master.iter().all(|&n| !in_soil[n]);
+            // a face between two layers of a stack: its master is another layer of this reinforcement
+            let between_layers = face.master.iter().all(|n| slaves.binary_search(n).is_ok());
             for point in &face.points {
                 let n = face.normal(&model.mesh, point.segment);
                 // the force on the slave node from the row: −λ·n (λ > 0 pushes it off the master)
@@ -260,8 +261,11 @@ pub fn reinforcement_balance(model: &Model, results: &StepResults, state: &State
         if slaves.is_empty() || slaves.iter().any(|&n| in_soil[n]) {
             continue;
         }
+        // the reinforcement: every node its bars reach from the slave line (a grip or a free
+        // length pulled off the line); one tied to the soil by a bar has no balance of its own
+        let Some(nodes) = reinforcement_nodes(model, &slaves, &in_soil) else { continue };
         let mut applied = [0.0; 2];
-        for &n in &slaves {
+        for &n in &nodes {
             for d in 0..2 {
                 applied[d] += results.reaction_vector[2 * n + d] + state.f_ext[2 * n + d];
             }
@@ -276,4 +280,32 @@ pub fn reinforcement_balance(model: &Model, results: &StepResults, state: &State
         });
     }
     out
+}
+
+/// The nodes that the bars connect to `slaves` (themselves included), sorted; `None` when a bar
+/// leads to a soil node.
+fn reinforcement_nodes(model: &Model, slaves: &[usize], in_soil: &[bool]) -> Option<Vec<usize>> {
+    let mut neighbours: Vec<Vec<usize>> = vec![Vec::new(); model.mesh.nodes.len()];
+    for bar in &model.mesh.bars {
+        let [a, b] = bar.nodes;
+        neighbours[a].push(b);
+        neighbours[b].push(a);
+    }
+    let mut reached = vec![false; model.mesh.nodes.len()];
+    let mut stack: Vec<usize> = slaves.to_vec();
+    for &n in slaves {
+        reached[n] = true;
+    }
+    while let Some(n) = stack.pop() {
+        for &m in &neighbours[n] {
+            if in_soil[m] {
+                return None;
+            }
+            if !reached[m] {
+                reached[m] = true;
+                stack.push(m);
+            }
+        }
+    }
+    Some((0..reached.len()).filter(|&n| reached[n]).collect())
 }

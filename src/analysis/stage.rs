@@ -153,6 +153,9 @@ pub fn increments(
     Ok(())
 }
 
+/// A reinforcement's force balance (applied against carried, relative) beyond which the run warns.
+const BALANCE_WARNING: f64 = 1e-6;
+
 /// A stage that freezes σn where no interface point in contact is compressed yet (a surcharge
 /// stage, before the surcharge) leaves its faces the cohesion alone: say so in the run's warnings.
 fn warn_of_unloaded_freeze(cx: &mut Context, state: &State, plan: &StagePlan, rows: &InterfaceRows, frozen: &[f64]) {
@@ -192,6 +195,16 @@ pub fn complete_increment(
     let rows = InterfaceRows::new(&model.mesh, &state.interfaces, &stage.dofs.multipliers);
     let results = StepResults::compute(model, &cx.elements, &rows, &report.springs, state, &report.soil, &cx.held);
     let balance = reinforcement_balance(model, &results, state);
+    for b in balance.iter().filter(|b| !(b.mismatch <= BALANCE_WARNING)) {
+        let warning = format!(
+            "reinforcement \"{}\": the forces applied to its nodes ({:.6e}, {:.6e}) and those its interfaces carry ({:.6e}, {:.6e}) differ by {:.1e} of the applied force (first in stage \"{}\", step {})",
+            b.interface, b.applied[0], b.applied[1], b.interface_force[0], b.interface_force[1], b.mismatch, stage.plan.name, at.step
+        );
+        let known = format!("reinforcement \"{}\": the forces applied", b.interface);
+        if !cx.system.stats.warnings.iter().any(|w| w.starts_with(&known)) {
+            cx.system.stats.warnings.push(warning);
+        }
+    }
     cx.system.stats.output_seconds += output_started.elapsed().as_secs_f64();
     let search_started = Instant::now();
     let rule = options.analysis.reassociation;
