@@ -5,8 +5,7 @@
 //! pull-out force of a reinforcement with n_f = 2 faces is P_ult = 2·τmax·L, τmax = c + σn·tan φ_i;
 //! and §5: in the frictionless box σn on the grid is q + γ·h before the pull (h = 0.3 m of sand,
 //! γ = 18 kN/m³). The box can only lower the peak below 2·(q + γh)·tan φ_i·L: the soil relaxes at
-//! the front slot, the grid's tail shares its soil node with the sand behind it, and the embedded
-//! length shrinks by the tail's slip before the whole grid slides.
+//! the front slot, and the embedded length shrinks by the tail's slip before the whole grid slides.
 //!
 //! Needs Debian's `gmsh` (scripts/test-all.sh installs it).
 
