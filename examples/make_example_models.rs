@@ -105,6 +105,7 @@ fn paper_block() -> ModelFile {
                 head: None,
                 material: "geosynthetic".into(),
                 stack: Vec::new(),
+                free_length: None,
             }),
             slave: None,
             master: None,

@@ -276,6 +276,7 @@ impl PullOutBox {
                         head: None,
                         material: "grid".into(),
                         stack: Vec::new(),
+                        free_length: None,
                     }),
                     slave: None,
                     master: None,

@@ -78,6 +78,7 @@ fn stack_in_shear() -> ModelFile {
                         residual_friction_angle: 10.0,
                     },
                 }],
+                free_length: None,
             }),
             slave: None,
             master: None,

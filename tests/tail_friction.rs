@@ -37,13 +37,5 @@ fn a_fully_sliding_two_face_reinforcement_carries_two_tau_l() {
     // every point slides once the head has moved past u_y = τmax/Ks = 5.8 mm; the embedded length
     // is then L − u (the large-slip form of §2), u the head's displacement (a nearly rigid bar)
     let tau_max = 20.0 * 30f64.to_radians().tan();
-    for (k, &force) in forces.iter().enumerate().skip(7) {
-        let u = 0.001 * (k + 1) as f64;
-        let ultimate = 2.0 * tau_max * (1.6 - u);
-        assert!(
-            common::relative_error(force, ultimate) < 1e-3,
-            "step {}: force {force} kN/m against n_f·τmax·(L − u) = {ultimate}",
-            k + 1
-        );
-    }
+    common::assert_sliding_plateau(&forces, 8, 0.001, 1.6, tau_max, 1e-3);
 }

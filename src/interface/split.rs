@@ -57,11 +57,16 @@ pub fn split_reinforcement(
     sides: &SideMap,
     name: &str,
     path_ids: &[u64],
+    free_length: Option<f64>,
     stack: &Stack,
     next_bar_id: &mut u64,
 ) -> Result<(Interface, SplitRecord), Vec<GeometryProblem>> {
     let (path, boundary) = checked_path(mesh, sides, path_ids)?;
     let mut problems = GeometryProblems::default();
+    let free = match free_length {
+        Some(length) => free_positions(mesh, &path, length)?,
+        None => Vec::new(),
+    };
 
     // Elements touching each node to be split, and whether they lie left of head → tail.
     let tail = path.len() - 1;
@@ -112,14 +117,16 @@ pub fn split_reinforcement(
     }
 
     // Reinforcement nodes and bars, layer by layer from the bottom up.
+    // (a free length's nodes first, in front of the head)
     let mut layer_nodes: Vec<Vec<NodeIndex>> = Vec::with_capacity(stack.layers.len());
     for (_, material) in &stack.layers {
-        let mut nodes = Vec::with_capacity(path.len());
-        for &p in &path {
-            nodes.push(mesh.add_node(next_id, mesh.position(p)));
+        let mut nodes = Vec::with_capacity(free.len() + path.len());
+        let positions: Vec<[f64; 2]> = free.iter().copied().chain(path.iter().map(|&p| mesh.position(p))).collect();
+        for x in positions {
+            nodes.push(mesh.add_node(next_id, x));
             next_id += 1;
         }
-        for k in 0..tail {
+        for k in 0..nodes.len() - 1 {
             mesh.bars.push(Bar { id: *next_bar_id, nodes: [nodes[k], nodes[k + 1]], material: *material });
             *next_bar_id += 1;
         }
@@ -199,14 +206,50 @@ pub fn split_reinforcement(
             slit_of: None, // set by the caller, which knows the reinforcement's index
         }
     });
+    // a free length's points face no soil yet
+    for face in faces.iter_mut() {
+        for point in face.points.iter_mut().take(free.len()) {
+            point.normal_state = NormalState::Outside;
+        }
+    }
     for (k, nodes) in layer_nodes.into_iter().enumerate() {
         let layer = if k == 0 { name } else { stack.layers[k].0.as_str() };
         record.node_sets.push((format!("{layer}.head"), vec![nodes[0]]));
-        record.node_sets.push((format!("{layer}.tail"), vec![nodes[tail]]));
+        record.node_sets.push((format!("{layer}.tail"), vec![nodes[nodes.len() - 1]]));
         record.node_sets.push((format!("{layer}.reinforcement"), nodes));
     }
     record.slit = slit;
     Ok((Interface { name: name.to_string(), faces, slit_of: None }, record))
+}
+
+/// The most nodes a free length may add (its spacing is at most the first segment's).
+pub const MAX_FREE_NODES: usize = 10_000;
+
+/// The positions of a free length's nodes in front of the head, from its front end back towards
+/// the head (the head excluded): on the line of the first segment, spaced at most as that segment.
+fn free_positions(mesh: &Mesh, path: &[NodeIndex], length: f64) -> Result<Vec<[f64; 2]>, Vec<GeometryProblem>> {
+    let (head, next) = (mesh.position(path[0]), mesh.position(path[1]));
+    let back = sub(head, next);
+    let segment = (back[0] * back[0] + back[1] * back[1]).sqrt();
+    let count = (length / segment - 1e-9).ceil().max(1.0);
+    if !(count <= MAX_FREE_NODES as f64) {
+        let mut problems = GeometryProblems::default();
+        problems.push(
+            "free_length",
+            format!(
+                "{length} would need {count} nodes at the first segment's spacing ({segment}); at most {MAX_FREE_NODES}"
+            ),
+        );
+        problems.check()?;
+    }
+    let count = count as usize;
+    let d = unit(back);
+    Ok((0..count)
+        .map(|k| {
+            let at = length * (count - k) as f64 / count as f64;
+            [head[0] + at * d[0], head[1] + at * d[1]]
+        })
+        .collect())
 }
 
 /// The path's nodes, checked: they exist, none twice, each pair joined by a linear soil side with

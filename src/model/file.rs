@@ -406,6 +406,11 @@ pub struct ReinforcementPath {
     /// each slides on the layer beneath it by its own law.
     #[serde(default)]
     pub stack: Vec<StackedLayer>,
+    /// A length of reinforcement in front of the head, outside the soil (up to a grip or clamp)
+    /// [length]: its nodes are added on the line of the first segment, spaced at most as that
+    /// segment; `<name>.head` is then its front end. Its points touch no soil until they enter it.
+    #[serde(default)]
+    pub free_length: Option<f64>,
 }
 
 /// Tangential law per face and per slave point.

@@ -59,6 +59,21 @@ pub fn issue_pullout_box() -> geoslip::meshgen::PullOutBox {
     }
 }
 
+/// Assert that the pull-out force of each step from `first` on (1-based, the head moved `step`
+/// further each step) is n_f·τmax·(L − u) of a fully sliding, nearly rigid two-face reinforcement of
+/// embedded length `length` (closed-forms.md §2, large slip), to `tolerance` relative.
+pub fn assert_sliding_plateau(forces: &[f64], first: usize, step: f64, length: f64, tau_max: f64, tolerance: f64) {
+    for (k, &force) in forces.iter().enumerate().skip(first - 1) {
+        let u = step * (k + 1) as f64;
+        let plateau = 2.0 * tau_max * (length - u);
+        assert!(
+            relative_error(force, plateau) < tolerance,
+            "step {}: force {force} kN/m against n_f·τmax·(L − u) = {plateau}",
+            k + 1
+        );
+    }
+}
+
 /// Displacement of node `id` in the last step.
 pub fn displacement(c: &Collect, id: u64) -> [f64; 2] {
     let r = c.last().expect("at least one step");

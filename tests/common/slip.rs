@@ -45,6 +45,7 @@ pub fn bar_in_rigid_soil(
                 head: None,
                 material: "grid".into(),
                 stack: Vec::new(),
+                free_length: None,
             }),
             slave: None,
             master: None,

@@ -93,8 +93,35 @@ pub(super) fn interfaces(d: &mut Draft, file: &ModelFile, p: &mut Problems) {
                 if p.len() > before {
                     continue;
                 }
+                if let Some(free) = r.free_length {
+                    if !(free.is_finite() && free > 0.0) {
+                        p.push(
+                            format!("{field}.reinforcement.free_length"),
+                            &entity,
+                            format!("must be a positive length (got {free})"),
+                        );
+                    }
+                    if !r.stack.is_empty() {
+                        p.push(
+                            format!("{field}.reinforcement.free_length"),
+                            &entity,
+                            "a free length is not yet supported for a stack of geosynthetics",
+                        );
+                    }
+                }
+                if p.len() > before {
+                    continue;
+                }
                 let sides_now = SideMap::new(mesh);
-                let split = split::split_reinforcement(mesh, &sides_now, &spec.name, &r.path, &stack, &mut next_bar_id);
+                let split = split::split_reinforcement(
+                    mesh,
+                    &sides_now,
+                    &spec.name,
+                    &r.path,
+                    r.free_length,
+                    &stack,
+                    &mut next_bar_id,
+                );
                 match split {
                     Ok((interface, record)) => {
                         for (orig, twin) in record.twins {
