@@ -40,6 +40,15 @@ fn run_writes_every_result_file_with_units_in_the_headers() {
                 assert!(r.as_f64().unwrap() < 1e-10);
             }
         }
+        // the report's linear-algebra paragraph says when the interface iteration condensed the soil
+        let report = std::fs::read_to_string(dir.join("report.md")).unwrap();
+        assert!(report.contains("Linear algebra:"), "{solver}");
+        match summary["solver_stats"]["condensed_unknowns"].as_u64() {
+            Some(kept) => {
+                assert!(report.contains(&format!("condensed the soil onto {kept} kept unknowns")), "{solver}")
+            }
+            None => assert!(!report.contains("kept unknowns"), "{solver}"),
+        }
         let step = dir.join("stage-1-self-weight-and-surcharge/step-001");
         let headers = [
             ("displacements.csv", "node,x [m],y [m],ux [m],uy [m]"),

@@ -237,6 +237,13 @@ fn run_history(r: &mut String, summary: &RunSummary) {
         st.solve_seconds,
         st.max_relative_residual
     );
+    if let Some(kept) = st.condensed_unknowns {
+        let _ = writeln!(
+            r,
+            "The interface iteration condensed the soil onto {kept} kept unknowns: {} dense factorisations and {} low-rank updates of the kept system ({:.3} s with its solves).",
+            st.dense_factorizations, st.dense_updates, st.dense_seconds
+        );
+    }
 
     let _ = writeln!(r, "\n## Re-associations\n");
     let total: usize = summary.steps.iter().map(|s| s.reassociations.len()).sum();
