@@ -114,9 +114,7 @@ pub fn solve(
         Err(Failure::Other(e)) => {
             let warning =
                 format!("the interface iteration's condensed solve failed ({e}); the run goes on with the full system");
-            if !stats.warnings.contains(&warning) {
-                stats.warnings.push(warning);
-            }
+            stats.warn(warning);
             *condensed = None;
             Condensed::NotHere
         }

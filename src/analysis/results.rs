@@ -217,6 +217,12 @@ pub fn reinforcement_balance(model: &Model, results: &StepResults, state: &State
             in_soil[n] = true;
         }
     }
+    let mut neighbours: Vec<Vec<usize>> = vec![Vec::new(); model.mesh.nodes.len()];
+    for bar in &model.mesh.bars {
+        let [a, b] = bar.nodes;
+        neighbours[a].push(b);
+        neighbours[b].push(a);
+    }
     let mut out = Vec::new();
     let mut k = 0usize;
     for interface in &state.interfaces {
@@ -263,7 +269,7 @@ pub fn reinforcement_balance(model: &Model, results: &StepResults, state: &State
         }
         // the reinforcement: every node its bars reach from the slave line (a grip or a free
         // length pulled off the line); one tied to the soil by a bar has no balance of its own
-        let Some(nodes) = reinforcement_nodes(model, &slaves, &in_soil) else { continue };
+        let Some(nodes) = reinforcement_nodes(&neighbours, &slaves, &in_soil) else { continue };
         let mut applied = [0.0; 2];
         for &n in &nodes {
             for d in 0..2 {
@@ -282,16 +288,10 @@ pub fn reinforcement_balance(model: &Model, results: &StepResults, state: &State
     out
 }
 
-/// The nodes that the bars connect to `slaves` (themselves included), sorted; `None` when a bar
-/// leads to a soil node.
-fn reinforcement_nodes(model: &Model, slaves: &[usize], in_soil: &[bool]) -> Option<Vec<usize>> {
-    let mut neighbours: Vec<Vec<usize>> = vec![Vec::new(); model.mesh.nodes.len()];
-    for bar in &model.mesh.bars {
-        let [a, b] = bar.nodes;
-        neighbours[a].push(b);
-        neighbours[b].push(a);
-    }
-    let mut reached = vec![false; model.mesh.nodes.len()];
+/// The nodes that the bars (`neighbours`: each node's bar neighbours) connect to `slaves`
+/// (themselves included), sorted; `None` when a bar leads to a soil node.
+fn reinforcement_nodes(neighbours: &[Vec<usize>], slaves: &[usize], in_soil: &[bool]) -> Option<Vec<usize>> {
+    let mut reached = vec![false; neighbours.len()];
     let mut stack: Vec<usize> = slaves.to_vec();
     for &n in slaves {
         reached[n] = true;

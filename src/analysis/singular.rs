@@ -121,9 +121,7 @@ const ILL_CONDITIONED: f64 = 1e12;
 
 fn warn_once(cx: &mut Context, warning: &str) {
     let w = warning.to_string();
-    if !cx.system.stats.warnings.contains(&w) {
-        cx.system.stats.warnings.push(w);
-    }
+    cx.system.stats.warn(w);
 }
 
 /// The smallest and the largest positive stiffness on the diagonal of the displacement unknowns

@@ -172,9 +172,7 @@ fn warn_of_unloaded_freeze(cx: &mut Context, state: &State, plan: &StagePlan, ro
             "stage \"{}\" freezes σn at its start, where no interface point in contact is compressed yet ({unloaded} points at σn ≤ 0): their shear strength through the stage is the cohesion alone; set freeze_normal_stress = false on that stage",
             plan.name
         );
-        if !cx.system.stats.warnings.contains(&warning) {
-            cx.system.stats.warnings.push(warning);
-        }
+        cx.system.stats.warn(warning);
     }
 }
 

@@ -60,6 +60,15 @@ pub struct LinearSystem {
     pub stats: SolverStats,
 }
 
+impl SolverStats {
+    /// Add a warning unless the run has one already.
+    pub fn warn(&mut self, warning: String) {
+        if !self.warnings.contains(&warning) {
+            self.warnings.push(warning);
+        }
+    }
+}
+
 impl LinearSystem {
     /// A solver for matrices that are `symmetric` or not (MUMPS: SYM=2 or SYM=0).
     pub fn new(backend: Backend, symmetric: bool, options: &super::SolverOptions) -> Result<Self, SolveError> {
@@ -115,9 +124,7 @@ impl LinearSystem {
                          some constraint rows may be dependent, or K is not positive definite on their null space",
                         self.solver.backend().name()
                     );
-                    if !self.stats.warnings.contains(&w) {
-                        self.stats.warnings.push(w);
-                    }
+                    self.stats.warn(w);
                 }
             }
             self.stats.factorize_seconds += t.elapsed().as_secs_f64();
