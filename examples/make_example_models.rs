@@ -106,6 +106,7 @@ fn paper_block() -> ModelFile {
                 material: "geosynthetic".into(),
                 stack: Vec::new(),
                 free_length: None,
+                mode: Default::default(),
             }),
             slave: None,
             master: None,

@@ -277,6 +277,7 @@ impl PullOutBox {
                         material: "grid".into(),
                         stack: Vec::new(),
                         free_length: None,
+                        mode: Default::default(),
                     }),
                     slave: None,
                     master: None,

@@ -81,3 +81,23 @@ fn a_free_length_that_is_not_a_positive_length_is_refused_by_name() {
         assert!(error.contains("free_length") && error.contains("grid"), "{bad}: {error}");
     }
 }
+
+#[test]
+fn embedded_and_pulled_through_the_face_it_follows_the_closed_form_to_the_end() {
+    // the same grip and pull with the grid embedded in the continuous soil: its rows never open,
+    // so the force is n_f·τmax·(L − u) at every step until the tail leaves the soil
+    let mut file = gripped_box(0.3, 0.4, 40);
+    file.interfaces[0].reinforcement.as_mut().unwrap().mode = geoslip::model::file::ReinforcementMode::Embedded;
+    let model = common::model(&file, "free-length-embedded.toml");
+    let c = common::run(&model, Backend::available()[0]);
+    let forces = common::head_forces(&model, &c, "grid.head");
+    let tau_max = 20.0 * 30f64.to_radians().tan();
+    let tolerance = 1e-4 * 2.0 * tau_max * 0.3;
+    for (k, &force) in forces.iter().enumerate() {
+        let u = 0.01 * (k + 1) as f64;
+        let exact = 2.0 * tau_max * (0.3 - u).max(0.0);
+        assert!((force - exact).abs() <= tolerance, "step {}: force {force} kN/m against {exact}", k + 1);
+    }
+    let (_, last) = c.steps.last().unwrap();
+    assert!(last.interface_points.iter().all(|p| p.tributary == 0.0 && p.tau == 0.0), "out of the soil");
+}

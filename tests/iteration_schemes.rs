@@ -16,8 +16,8 @@ use geoslip::linsol::Backend;
 use geoslip::meshgen::PullOutBox;
 use geoslip::model::file::{Scheme, ShearLawSpec};
 
-/// The model above, iterated by `scheme`, with σn frozen or not.
-fn frictional_pullout(scheme: Scheme, frozen: bool) -> geoslip::model::Model {
+/// The model file above, iterated by `scheme`.
+fn frictional_box(scheme: Scheme) -> geoslip::model::file::ModelFile {
     let mut file = PullOutBox {
         law: ShearLawSpec::Coulomb { shear_stiffness: 540.0, cohesion: 0.0, friction_angle: 30.0 },
         surcharge: 10.0,
@@ -27,8 +27,14 @@ fn frictional_pullout(scheme: Scheme, frozen: bool) -> geoslip::model::Model {
     }
     .model();
     file.analysis.scheme = scheme;
-    file.analysis.freeze_normal_stress = frozen;
     file.analysis.force_tolerance = 1e-10;
+    file
+}
+
+/// The model above, iterated by `scheme`, with σn frozen or not.
+fn frictional_pullout(scheme: Scheme, frozen: bool) -> geoslip::model::Model {
+    let mut file = frictional_box(scheme);
+    file.analysis.freeze_normal_stress = frozen;
     common::model(&file, "frictional-pullout.toml")
 }
 
@@ -82,6 +88,37 @@ fn newton_factorises_symmetric_where_its_tangent_is_and_reaches_the_same_equilib
             let (pull, symmetric) = solve(Scheme::Newton, frozen, backend);
             assert_eq!(symmetric, frozen, "{backend:?}, frozen σn {frozen}");
             assert!(((pull - reference) / reference).abs() < 1e-6, "{backend:?}: pull {pull} vs {reference}");
+        }
+    }
+}
+
+#[test]
+fn schemes_agree_on_an_embedded_grid_whose_normal_stress_is_the_soils() {
+    // The grid embedded in the continuous soil, σn not frozen: each point's σn is the soil's normal
+    // stress across the grid at the end of the last increment, so every scheme solves the same
+    // increment and must find the same equilibrium.
+    let mut forces = Vec::new();
+    for scheme in [Scheme::ConstantStiffness, Scheme::NewtonSymmetric, Scheme::Newton] {
+        let mut file = frictional_box(scheme);
+        file.interfaces[0].reinforcement.as_mut().unwrap().mode = geoslip::model::file::ReinforcementMode::Embedded;
+        let model = common::model(&file, "embedded-pullout.toml");
+        let c = common::run(&model, Backend::available()[0]);
+        // σn is the soil's: the 10 kPa surcharge (the box's stages apply no weight), exactly in
+        // the first pull step (the soil's state before it), then changed by the pull near the grid
+        let (_, first) = &c.steps[1];
+        for p in first.interface_points.iter().filter(|p| p.state == "active") {
+            assert!((p.sigma_n - 10.0).abs() < 1e-9, "{scheme:?}: node {} σn {}", p.slave_node, p.sigma_n);
+        }
+        let (_, last) = c.steps.last().unwrap();
+        assert!(
+            last.interface_points.iter().any(|p| p.state == "active" && (p.sigma_n - 10.0).abs() > 1e-3),
+            "{scheme:?}: σn follows the soil's stress as the grid is pulled"
+        );
+        forces.push(common::head_forces(&model, &c, "grid.head"));
+    }
+    for other in &forces[1..] {
+        for (k, (a, b)) in forces[0].iter().zip(other).enumerate() {
+            assert!(common::relative_error(*b, *a) < 1e-6, "step {}: {a} against {b}", k + 1);
         }
     }
 }

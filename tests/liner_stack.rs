@@ -79,6 +79,7 @@ fn stack_in_shear() -> ModelFile {
                     },
                 }],
                 free_length: None,
+                mode: Default::default(),
             }),
             slave: None,
             master: None,

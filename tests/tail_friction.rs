@@ -39,3 +39,17 @@ fn a_fully_sliding_two_face_reinforcement_carries_two_tau_l() {
     let tau_max = 20.0 * 30f64.to_radians().tan();
     common::assert_sliding_plateau(&forces, 8, 0.001, 1.6, tau_max, 1e-3);
 }
+
+#[test]
+fn an_embedded_reinforcement_carries_two_tau_l_to_its_tail() {
+    // the same box with the grid embedded in the continuous soil: its tail point has its full
+    // tributary length and the soil's σn, so the plateau is the same n_f·τmax·(L − u)
+    let mut file = PullOutBox { axial_stiffness: 1.0e6, pull: 0.01, steps: 10, ..common::issue_pullout_box() }.model();
+    file.interfaces[0].reinforcement.as_mut().unwrap().mode = geoslip::model::file::ReinforcementMode::Embedded;
+    file.stages[1].freeze_normal_stress = Some(true);
+    let model = common::model(&file, "tail-friction-embedded.toml");
+    let c = common::run(&model, Backend::available()[0]);
+    let forces = common::head_forces(&model, &c, "grid.head");
+    let tau_max = 20.0 * 30f64.to_radians().tan();
+    common::assert_sliding_plateau(&forces, 8, 0.001, 1.6, tau_max, 1e-3);
+}

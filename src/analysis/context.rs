@@ -139,7 +139,9 @@ fn symmetric_tangent(model: &Model, options: &RunOptions) -> bool {
             .iter()
             .filter(|s| s.strength_reduction.is_none())
             .all(|s| s.freeze_normal_stress.unwrap_or(options.analysis.freeze_normal_stress));
-    let coupled = !frozen && model.interfaces.iter().flat_map(|i| &i.faces).any(|f| f.law.is_frictional());
+    // (an embedded reinforcement's σn is the soil's, not coupled to a multiplier in the tangent)
+    let coupled = !frozen
+        && model.interfaces.iter().flat_map(|i| &i.faces).any(|f| f.law.is_frictional() && f.embedded.is_none());
     !coupled && !model.has_non_associated_soil()
 }
 

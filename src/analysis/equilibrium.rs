@@ -170,7 +170,7 @@ fn linearise(
         cx.active_set(dofs, &state.placed).hold_free_reinforcement_nodes(&mut state.interfaces, &mut state.lambda);
     it.state_changes.extend(held);
     let rows = InterfaceRows::new(&cx.model.mesh, &state.interfaces, &dofs.multipliers);
-    let springs = springs::evaluate(state, &rows);
+    let springs = springs::evaluate(cx.model, state, &rows);
     // The first iteration of an increment predicts with the elastic soil stiffness: prescribed
     // displacements strain only the elements next to them at first, and their tangent would say
     // nothing about the rest.
@@ -217,9 +217,14 @@ fn linearise(
                 .iter()
                 .zip(&springs)
                 .map(|(s, r)| {
-                    let p = &state.interfaces[s.interface].faces[s.face].points[s.point];
-                    // (a point whose σn is its neighbour's gets no coupling to its own multiplier)
-                    if matches!(p.normal_state, NormalState::Active) && p.pressure_from.is_none() {
+                    let face = &state.interfaces[s.interface].faces[s.face];
+                    let p = &face.points[s.point];
+                    // (a point whose σn is its neighbour's, or the soil's on an embedded line,
+                    // gets no coupling to its own multiplier)
+                    if matches!(p.normal_state, NormalState::Active)
+                        && p.pressure_from.is_none()
+                        && face.embedded.is_none()
+                    {
                         r.response.d_tau_d_sigma
                     } else {
                         0.0
@@ -487,7 +492,7 @@ fn check(
     let t = Instant::now();
     clip(cx, state);
     let rows = InterfaceRows::new(&cx.model.mesh, &state.interfaces, &dofs.multipliers);
-    let springs = springs::evaluate(state, &rows);
+    let springs = springs::evaluate(cx.model, state, &rows);
     let characteristic = cx.characteristic;
     let force_floor = state
         .f_ext
@@ -628,7 +633,7 @@ fn line_search(
         for k in 0..dofs.multipliers.len() {
             trial.lambda[k] = state.lambda[k] + step * scale * x[dofs.multiplier_equation(k)];
         }
-        let springs = springs::evaluate(&trial, rows);
+        let springs = springs::evaluate(cx.model, &trial, rows);
         let taus: Vec<f64> = springs.iter().map(|r| r.tau).collect();
         let soil_trial = soil::evaluate(&cx.setup, &trial.soil, &trial.u, &trial.u_committed, Tangent::Elastic);
         let (r, _, _) = out_of_balance(&cx.elements, &soil_trial, rows, &taus, &trial, dofs);
@@ -736,7 +741,7 @@ pub fn first_system(model: &Model) -> (usize, IterationSystem) {
         placed: Vec::new(),
     };
     let rows = InterfaceRows::new(&model.mesh, &state.interfaces, &dofs.multipliers);
-    let springs = springs::evaluate(&state, &rows);
+    let springs = springs::evaluate(model, &state, &rows);
     let soil_trial = SoilTrial::default();
     let stiffness: Vec<f64> = rows
         .springs

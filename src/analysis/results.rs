@@ -254,7 +254,7 @@ pub fn reinforcement_balance(model: &Model, results: &StepResults, state: &State
                         })
                         .map(|r| r.tau)
                         .unwrap_or(0.0);
-                    tau * point.tributary
+                    tau * point.tributary * face.sides()
                 };
                 // the soil resists positive slip: force −τℓ·t on the slave (between two layers of a
                 // stack the same force, reversed, acts on the layer beneath: nothing on the stack)

@@ -494,54 +494,79 @@ pub struct ElementStress {
 /// The Gauss-point results of every present element: effective stress, strain since placement,
 /// pore pressure and yield state.
 pub fn gauss_results(model: &Model, field: &SoilField, u: &[f64]) -> Vec<ElementStress> {
-    let mesh = &model.mesh;
-    let rule = model.integration();
-    let per_element: Vec<Vec<ElementStress>> = (0..mesh.solids.len())
-        .into_par_iter()
-        .map(|s| {
-            let state = &field.elements[s];
-            if !state.active {
-                return Vec::new();
+    let per_element: Vec<Vec<ElementStress>> =
+        (0..model.mesh.solids.len()).into_par_iter().map(|s| element_results(model, field, u, s)).collect();
+    per_element.into_iter().flatten().collect()
+}
+
+/// The Gauss-point results of soil element `s` (none when it is absent): an elastic element's
+/// stress from the displacements `u`, a Mohr–Coulomb element's as last committed.
+fn element_results(model: &Model, field: &SoilField, u: &[f64], s: usize) -> Vec<ElementStress> {
+    let state = &field.elements[s];
+    if !state.active {
+        return Vec::new();
+    }
+    let e = &model.mesh.solids[s];
+    let dofs: Vec<usize> = e.nodes.iter().flat_map(|&n| [2 * n, 2 * n + 1]).collect();
+    let mut u_e = element_u(&dofs, u);
+    if let Some(p) = &state.placed {
+        for (a, b) in u_e.iter_mut().zip(p) {
+            *a -= b;
+        }
+    }
+    let m = model.soil(s);
+    let elastic = PlaneStrain { youngs_modulus: m.youngs_modulus, poissons_ratio: m.poissons_ratio };
+    let plastic = model.strength(s).is_some();
+    element_points(model, e, model.integration())
+        .iter()
+        .enumerate()
+        .map(|(g, p)| {
+            let eps = strain(p, &u_e);
+            let point = state.points.get(g).copied().unwrap_or_default();
+            let stress = if plastic {
+                point.stress
+            } else {
+                let s0 = point.stress;
+                let d = mohr_coulomb::trial_stress(&elastic, s0, eps);
+                [d[0], d[1], d[2], d[3]]
+            };
+            ElementStress {
+                element: e.id,
+                point: g + 1,
+                x: p.x,
+                stress,
+                strain: eps,
+                pore_pressure: state.pore.get(g).copied().unwrap_or(0.0),
+                yield_state: point.yield_state,
+                plastic_strain: point.plastic_strain,
             }
-            let e = &mesh.solids[s];
-            let dofs: Vec<usize> = e.nodes.iter().flat_map(|&n| [2 * n, 2 * n + 1]).collect();
-            let mut u_e = element_u(&dofs, u);
-            if let Some(p) = &state.placed {
-                for (a, b) in u_e.iter_mut().zip(p) {
-                    *a -= b;
-                }
-            }
-            let m = model.soil(s);
-            let elastic = PlaneStrain { youngs_modulus: m.youngs_modulus, poissons_ratio: m.poissons_ratio };
-            let plastic = model.strength(s).is_some();
-            element_points(model, e, rule)
-                .iter()
-                .enumerate()
-                .map(|(g, p)| {
-                    let eps = strain(p, &u_e);
-                    let point = state.points.get(g).copied().unwrap_or_default();
-                    let stress = if plastic {
-                        point.stress
-                    } else {
-                        let s0 = point.stress;
-                        let d = mohr_coulomb::trial_stress(&elastic, s0, eps);
-                        [d[0], d[1], d[2], d[3]]
-                    };
-                    ElementStress {
-                        element: e.id,
-                        point: g + 1,
-                        x: p.x,
-                        stress,
-                        strain: eps,
-                        pore_pressure: state.pore.get(g).copied().unwrap_or(0.0),
-                        yield_state: point.yield_state,
-                        plastic_strain: point.plastic_strain,
-                    }
-                })
-                .collect()
+        })
+        .collect()
+}
+
+/// The soil's total normal stress (compression positive) across a line of unit normal `n` that
+/// runs between the soil elements `solids`: for each present one, the mean over its Gauss points of
+/// −n·σ′·n + p, and the mean of those. On a side shared by two linear elements this is exact for a
+/// stress that varies linearly across it (the two element means straddle the line). `None` when no
+/// element there is present.
+pub fn normal_stress_across(model: &Model, field: &SoilField, u: &[f64], solids: &[usize], n: [f64; 2]) -> Option<f64> {
+    let per_element: Vec<f64> = solids
+        .iter()
+        .filter_map(|&s| {
+            let points = element_results(model, field, u, s);
+            (!points.is_empty()).then(|| {
+                let sum: f64 = points
+                    .iter()
+                    .map(|p| {
+                        let [sxx, syy, sxy, _] = p.stress;
+                        -(n[0] * n[0] * sxx + 2.0 * n[0] * n[1] * sxy + n[1] * n[1] * syy) + p.pore_pressure
+                    })
+                    .sum();
+                sum / points.len() as f64
+            })
         })
         .collect();
-    per_element.into_iter().flatten().collect()
+    (!per_element.is_empty()).then(|| per_element.iter().sum::<f64>() / per_element.len() as f64)
 }
 
 #[cfg(test)]

@@ -2,9 +2,11 @@
 //! converged increment, its normal stress (current, or frozen at the start of the stage, less the
 //! pore pressure), and the law's response.
 
+use super::soil;
 use super::state::State;
 use crate::interface::rows::{InterfaceRows, Spring};
 use crate::interface::{NormalState, ShearResponse};
+use crate::model::Model;
 
 /// One spring's law evaluated at the current iterate.
 #[derive(Debug, Clone)]
@@ -23,15 +25,32 @@ pub struct SpringResult {
 /// σn = λ/ℓ of a spring's point (compression positive); a redundant row's force is carried by
 /// another row, whose σn it shares; a point at a slit tip, in contact, takes its neighbour's
 /// ([`crate::interface::ContactPoint::pressure_from`]).
-pub fn normal_stress(state: &State, rows: &InterfaceRows, spring: &Spring) -> f64 {
-    let p = &state.interfaces[spring.interface].faces[spring.face].points[spring.point];
+///
+/// A point of an embedded reinforcement takes the soil's normal stress across its segment
+/// ([`soil::normal_stress_across`]): its row only holds it on the line, and carries about nothing.
+/// That stress is the one at the end of the last converged increment. Taken at the iterate, it
+/// would depend on the shear the point itself puts into the soil next to it, and the increment's
+/// problem can then have more than one solution (the schemes found two, 1 % apart, on
+/// `examples/embedded-pullout`); lagged by an increment it is one problem, the same for every
+/// scheme, and as accurate as the increments are small.
+pub fn normal_stress(model: &Model, state: &State, rows: &InterfaceRows, spring: &Spring) -> f64 {
+    let face = &state.interfaces[spring.interface].faces[spring.face];
+    let p = &face.points[spring.point];
+    if let Some(embedding) = &face.embedded {
+        if !p.in_contact() {
+            return 0.0;
+        }
+        let n = face.normal(&model.mesh, p.segment);
+        let hosts = &embedding.hosts[p.segment];
+        return soil::normal_stress_across(model, &state.soil, &state.u_committed, hosts, n).unwrap_or(0.0);
+    }
     if let Some(from) = p.pressure_from.filter(|_| p.in_contact()) {
         let neighbour = rows.springs.iter().find(|s| {
             (s.interface, s.face, s.point) == (spring.interface, spring.face, from)
                 && state.interfaces[s.interface].faces[s.face].points[s.point].pressure_from.is_none()
         });
         if let Some(neighbour) = neighbour {
-            return normal_stress(state, rows, neighbour);
+            return normal_stress(model, state, rows, neighbour);
         }
     }
     match &p.normal_state {
@@ -46,7 +65,7 @@ pub fn normal_stress(state: &State, rows: &InterfaceRows, spring: &Spring) -> f6
 }
 
 /// Evaluate every spring's law at the current displacements.
-pub fn evaluate(state: &State, rows: &InterfaceRows) -> Vec<SpringResult> {
+pub fn evaluate(model: &Model, state: &State, rows: &InterfaceRows) -> Vec<SpringResult> {
     rows.springs
         .iter()
         .enumerate()
@@ -57,7 +76,7 @@ pub fn evaluate(state: &State, rows: &InterfaceRows) -> Vec<SpringResult> {
             let slip = p.shear.slip + slip_increment;
             let sigma_n = match &state.frozen_sigma_n {
                 Some(frozen) => frozen.get(k).copied().unwrap_or(0.0),
-                None => normal_stress(state, rows, s),
+                None => normal_stress(model, state, rows, s),
             };
             // the strength acts on the effective normal stress σn′ = σn − p
             let effective = match &state.soil.water {

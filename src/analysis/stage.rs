@@ -112,7 +112,7 @@ pub fn increments(
     state.frozen_sigma_n = None;
     if freeze {
         let rows = InterfaceRows::new(&model.mesh, &state.interfaces, &stage.dofs.multipliers);
-        let frozen: Vec<f64> = rows.springs.iter().map(|s| normal_stress(state, &rows, s)).collect();
+        let frozen: Vec<f64> = rows.springs.iter().map(|s| normal_stress(model, state, &rows, s)).collect();
         warn_of_unloaded_freeze(cx, state, plan, &rows, &frozen);
         state.frozen_sigma_n = Some(frozen);
     }
@@ -317,7 +317,7 @@ fn with_absent_nodes(model: &Model, field: &SoilField, bars: &BarStates, held: &
 /// free DOFs: f_ext − f_int − Cᵀλ.
 fn unbalance(cx: &Context, dofs: &DofMap, state: &State) -> Vec<f64> {
     let rows = InterfaceRows::new(&cx.model.mesh, &state.interfaces, &dofs.multipliers);
-    let springs = springs::evaluate(state, &rows);
+    let springs = springs::evaluate(cx.model, state, &rows);
     let taus: Vec<f64> = springs.iter().map(|r| r.tau).collect();
     let trial = soil::evaluate(&cx.setup, &state.soil, &state.u, &state.u_committed, Tangent::Elastic);
     let view = SoilView { field: &state.soil, trial: &trial };

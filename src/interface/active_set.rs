@@ -125,12 +125,16 @@ impl ActiveSet<'_> {
                 let face = &interfaces[m.interface].faces[m.face];
                 in_place(self.placed, face, &face.points[m.point])
             };
+            // one continuous soil does not open: an embedded reinforcement's rows are never released
+            let bilateral = interfaces[m.interface].faces[m.face].embedded.is_some();
             let p = &mut interfaces[m.interface].faces[m.face].points[m.point];
             // A point that has already switched CHATTER_LIMIT times in this increment stays in
             // contact: its λ is then slightly tensile at most, and it is reported.
             let locked = flips.get(&k).is_some_and(|&n| n >= CHATTER_LIMIT);
             let new = match p.normal_state {
-                NormalState::Active if lambda[k] < bands.release_below && !locked => Some(NormalState::Released),
+                NormalState::Active if lambda[k] < bands.release_below && !locked && !bilateral => {
+                    Some(NormalState::Released)
+                }
                 NormalState::Released | NormalState::Held { outside: false }
                     if gaps[k] > bands.close_above && placed =>
                 {

@@ -11,6 +11,7 @@
 //! row (it stays in the pattern with a unit diagonal), and re-associate the point as it slides.
 
 pub mod active_set;
+pub mod embed;
 pub mod law;
 pub mod pair;
 pub mod reassociate;
@@ -107,9 +108,35 @@ pub struct ContactFace {
     pub points: Vec<ContactPoint>,
     /// The shear law of this face's points (the faces of a stack of geosynthetics differ).
     pub law: ShearLaw,
+    /// A reinforcement embedded in continuous soil: the master path runs through the soil (soil on
+    /// both sides), and the face stands for both of the reinforcement's faces.
+    pub embedded: Option<Embedding>,
 }
 
+/// What an embedded reinforcement's face needs beyond a contact face's: its points are tied
+/// normally to a line inside one continuous soil, each stands for both faces of the reinforcement,
+/// and the shear law's σn is the soil's normal stress on the line there, not the row's multiplier
+/// (which only holds the reinforcement on the line, and is about zero).
+#[derive(Debug, Clone)]
+pub struct Embedding {
+    /// Per master segment: the soil elements either side of it, whose stress gives σn there.
+    pub hosts: Vec<Vec<usize>>,
+}
+
+/// The faces of a reinforcement one embedded face stands for.
+pub const EMBEDDED_SIDES: f64 = 2.0;
+
 impl ContactFace {
+    /// How many faces of the reinforcement each point stands for: 2 for an embedded reinforcement,
+    /// 1 for a face of a split one or of a pair. A point's shear force is τ·ℓ times this.
+    pub fn sides(&self) -> f64 {
+        if self.embedded.is_some() {
+            EMBEDDED_SIDES
+        } else {
+            1.0
+        }
+    }
+
     /// The face as a message names it: `upper face`, `geotextile on geomembrane face`, or `face`
     /// for a hand-made pair's one face.
     pub fn named(&self) -> String {

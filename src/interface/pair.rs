@@ -114,6 +114,7 @@ pub fn pair(
         soil_on_left: soil_left.unwrap_or(true),
         fixed_normal,
         law,
+        embedded: None,
     };
     // Every slave node must sit on its master face.
     let tol = 1e-6 * mesh.characteristic_length();

@@ -15,6 +15,8 @@ pub fn row_dofs(row: &Row) -> Vec<(usize, f64)> {
 pub struct Spring {
     /// Slip s = row · u.
     pub row: Vec<(usize, f64)>,
+    /// The point's tributary length times the faces it stands for (2 embedded): its stiffness is
+    /// Ks times this, its force τ times this.
     pub tributary: f64,
     pub interface: usize,
     pub face: usize,
@@ -73,7 +75,7 @@ impl InterfaceRows {
                     for (p, point) in face.points.iter().enumerate() {
                         springs.push(Spring {
                             row: row_dofs(&face.tangential_row(point)),
-                            tributary: point.tributary,
+                            tributary: point.tributary * face.sides(),
                             interface: i,
                             face: f,
                             point: p,

@@ -151,6 +151,7 @@ pub fn split_reinforcement(
         soil_on_left: left_is_upper,
         fixed_normal: None,
         law: stack.upper.clone(),
+        embedded: None,
     }];
     for (k, law) in stack.between.iter().enumerate() {
         // layer k + 1 on layer k: the normal points from it into layer k, on the lower side
@@ -161,6 +162,7 @@ pub fn split_reinforcement(
             soil_on_left: !left_is_upper,
             fixed_normal: None,
             law: law.clone(),
+            embedded: None,
         });
     }
     faces.push(ContactFace {
@@ -170,6 +172,7 @@ pub fn split_reinforcement(
         soil_on_left: !left_is_upper,
         fixed_normal: None,
         law: stack.lower.clone(),
+        embedded: None,
     });
     if split_count < path.len() {
         // the tail is a slit tip: the faces end at one soil node; the lower face's row there
@@ -202,6 +205,7 @@ pub fn split_reinforcement(
                 soil_on_left: true,
                 fixed_normal: None,
                 law: stack.upper.clone(),
+                embedded: None,
             }],
             slit_of: None, // set by the caller, which knows the reinforcement's index
         }
@@ -227,7 +231,11 @@ pub const MAX_FREE_NODES: usize = 10_000;
 
 /// The positions of a free length's nodes in front of the head, from its front end back towards
 /// the head (the head excluded): on the line of the first segment, spaced at most as that segment.
-fn free_positions(mesh: &Mesh, path: &[NodeIndex], length: f64) -> Result<Vec<[f64; 2]>, Vec<GeometryProblem>> {
+pub(super) fn free_positions(
+    mesh: &Mesh,
+    path: &[NodeIndex],
+    length: f64,
+) -> Result<Vec<[f64; 2]>, Vec<GeometryProblem>> {
     let (head, next) = (mesh.position(path[0]), mesh.position(path[1]));
     let back = sub(head, next);
     let segment = (back[0] * back[0] + back[1] * back[1]).sqrt();
@@ -254,7 +262,7 @@ fn free_positions(mesh: &Mesh, path: &[NodeIndex], length: f64) -> Result<Vec<[f
 
 /// The path's nodes, checked: they exist, none twice, each pair joined by a linear soil side with
 /// soil on both sides, the head on the mesh boundary. Also the mesh's boundary nodes.
-fn checked_path(
+pub(super) fn checked_path(
     mesh: &Mesh,
     sides: &SideMap,
     path_ids: &[u64],

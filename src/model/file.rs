@@ -411,6 +411,23 @@ pub struct ReinforcementPath {
     /// segment; `<name>.head` is then its front end. Its points touch no soil until they enter it.
     #[serde(default)]
     pub free_length: Option<f64>,
+    /// `split` (the default): the soil is split along the path into two bodies that touch the
+    /// reinforcement's two faces and may separate (geomembranes, liners). `embedded`: the soil stays
+    /// one continuous body and the reinforcement is tied into it (geogrids, strips in fill).
+    #[serde(default)]
+    pub mode: ReinforcementMode,
+}
+
+/// How a reinforcement meets the soil it lies in.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "kebab-case")]
+pub enum ReinforcementMode {
+    /// The soil split along the path: two bodies, one contact face each side, release in tension.
+    #[default]
+    Split,
+    /// The soil continuous: the reinforcement's points tied normally to the soil's sides they lie
+    /// on, two faces' shear from the soil's own normal stress there.
+    Embedded,
 }
 
 /// Tangential law per face and per slave point.

@@ -299,6 +299,8 @@ struct ReinforcementProfile {
     displacement: Vec<(f64, f64)>,
     shear: Vec<(f64, f64)>,
     normal: Vec<(f64, f64)>,
+    /// Which face τ and σn are of: `upper face`, or `each face` of an embedded reinforcement.
+    face: &'static str,
 }
 
 #[derive(Debug, Clone)]
@@ -844,7 +846,7 @@ fn profile(name: &str, nodes: &std::collections::HashSet<u64>, r: &StepResults) 
     let mut displacement: Vec<(f64, f64)> =
         r.displacements.iter().filter(|(id, _, _)| nodes.contains(id)).map(|(_, x, u)| (x[0], u[0])).collect();
     let upper = |p: &&crate::analysis::results::InterfacePointResult| {
-        p.interface == name && p.face == "upper" && p.state != "outside"
+        p.interface == name && (p.face == "upper" || p.face == "embedded") && p.state != "outside"
     };
     let mut shear: Vec<(f64, f64)> = r.interface_points.iter().filter(upper).map(|p| (p.x[0], p.tau)).collect();
     let mut normal: Vec<(f64, f64)> =
@@ -852,7 +854,12 @@ fn profile(name: &str, nodes: &std::collections::HashSet<u64>, r: &StepResults) 
     for v in [&mut tension, &mut displacement, &mut shear, &mut normal] {
         v.sort_by(|a, b| a.0.total_cmp(&b.0));
     }
-    ReinforcementProfile { tension, displacement, shear, normal }
+    let face = if r.interface_points.iter().any(|p| p.interface == name && p.face == "embedded") {
+        "each face"
+    } else {
+        "upper face"
+    };
+    ReinforcementProfile { tension, displacement, shear, normal, face }
 }
 
 impl ResultWriter {
@@ -897,6 +904,7 @@ impl ResultWriter {
                     .collect()
             };
             let x = format!("x at the reference position [{}]", u.length);
+            let face = chosen.last().map_or("upper face", |&s| self.profiles[s].reinforcements[k].face);
             let panels = vec![
                 plots::Panel {
                     title: format!("{name}: tension T(x)"),
@@ -913,14 +921,14 @@ impl ResultWriter {
                     markers_only: Vec::new(),
                 },
                 plots::Panel {
-                    title: format!("{name}: shear stress τ(x), upper face"),
+                    title: format!("{name}: shear stress τ(x), {face}"),
                     x_label: x.clone(),
                     y_label: format!("τ [{}]", u.stress),
                     series: series(&|p| p.shear.clone()),
                     markers_only: Vec::new(),
                 },
                 plots::Panel {
-                    title: format!("{name}: normal stress σn(x), upper face"),
+                    title: format!("{name}: normal stress σn(x), {face}"),
                     x_label: x,
                     y_label: format!("σn [{}]", u.stress),
                     series: series(&|p| p.normal.clone()),

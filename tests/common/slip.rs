@@ -46,6 +46,7 @@ pub fn bar_in_rigid_soil(
                 material: "grid".into(),
                 stack: Vec::new(),
                 free_length: None,
+                mode: Default::default(),
             }),
             slave: None,
             master: None,

@@ -3,7 +3,7 @@
 
 use super::materials::shear_law;
 use super::Draft;
-use crate::interface::{pair, split, GeometryProblem};
+use crate::interface::{embed, pair, split, GeometryProblem};
 use crate::mesh::{NodeIndex, SideMap};
 use crate::model::file::*;
 use crate::model::problems::Problems;
@@ -109,19 +109,48 @@ pub(super) fn interfaces(d: &mut Draft, file: &ModelFile, p: &mut Problems) {
                         );
                     }
                 }
+                if r.mode == ReinforcementMode::Embedded {
+                    if !r.stack.is_empty() {
+                        p.push(
+                            format!("{field}.reinforcement.stack"),
+                            &entity,
+                            "an embedded reinforcement takes no stack: lay a stack of geosynthetics in the split mode (leave out `mode`)",
+                        );
+                    }
+                    if spec.lower_law.is_some() {
+                        p.push(
+                            format!("{field}.lower_law"),
+                            &entity,
+                            "an embedded reinforcement has the same soil on both faces and one law for both: leave out lower_law, or split the soil (leave out `mode`)",
+                        );
+                    }
+                }
                 if p.len() > before {
                     continue;
                 }
                 let sides_now = SideMap::new(mesh);
-                let split = split::split_reinforcement(
-                    mesh,
-                    &sides_now,
-                    &spec.name,
-                    &r.path,
-                    r.free_length,
-                    &stack,
-                    &mut next_bar_id,
-                );
+                let split = if r.mode == ReinforcementMode::Embedded {
+                    embed::embed_reinforcement(
+                        mesh,
+                        &sides_now,
+                        &spec.name,
+                        &r.path,
+                        r.free_length,
+                        material,
+                        stack.upper.clone(),
+                        &mut next_bar_id,
+                    )
+                } else {
+                    split::split_reinforcement(
+                        mesh,
+                        &sides_now,
+                        &spec.name,
+                        &r.path,
+                        r.free_length,
+                        &stack,
+                        &mut next_bar_id,
+                    )
+                };
                 match split {
                     Ok((interface, record)) => {
                         for (orig, twin) in record.twins {
