@@ -58,6 +58,20 @@ fn pullout_force_follows_the_embedded_length() {
 }
 
 #[test]
+fn mortar_ties_follow_it_as_closely() {
+    // segment-to-segment ties average the soil over each point's part of the grid; on a rigid soil
+    // they change nothing that the closed form sees
+    for backend in Backend::available() {
+        let c = curve(ReassociationRule::Mortar, backend);
+        for u in [0.32, 0.46] {
+            let exact = 2.0 * TAU * (1.0 - u);
+            let p = at(&c, u);
+            assert!(((p - exact) / exact).abs() < 0.01, "{backend:?}: mortar: P({u}) = {p}, expected {exact}");
+        }
+    }
+}
+
+#[test]
 fn the_paper_nearest_node_approximation_also_follows_it_at_the_steps() {
     // nearest-node re-association snaps each tie to a soil node; the resistance still follows the
     // embedded length, with the step-to-step noise of the node snapping

@@ -208,12 +208,14 @@ pub fn complete_increment(
     let rule = options.analysis.reassociation;
     let mut reassociations = match rule {
         ReassociationRule::None => Vec::new(),
-        rule => reassociate::reassociate(
-            &model.mesh,
-            &mut state.interfaces,
-            &state.u,
-            rule == ReassociationRule::NearestNode,
-        ),
+        rule => {
+            let tie = match rule {
+                ReassociationRule::NearestNode => reassociate::Tie::NearestNode,
+                ReassociationRule::Mortar => reassociate::Tie::Mortar,
+                _ => reassociate::Tie::Segment,
+            };
+            reassociate::reassociate(&model.mesh, &mut state.interfaces, &state.u, tie)
+        }
     };
     if rule != ReassociationRule::None {
         reassociations.extend(reassociate::uncover_slits(&model.mesh, &mut state.interfaces, &state.u));

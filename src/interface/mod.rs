@@ -86,6 +86,11 @@ pub struct ContactPoint {
     /// where they carry nothing), so that sliding within them needs no new analysis; `None`: only
     /// the current segment. Set by [`reserve_windows`].
     pub reserved: Option<(usize, usize)>,
+    /// Segment-to-segment (dual mortar) weights of the master nodes, `(index into the master path,
+    /// weight)`, summing to one: the rows then tie the point to the master face averaged over its
+    /// part of the slave line rather than to the one master point it faces. `None`: N_i(ξ) on its
+    /// segment (node-to-segment). Set by the `mortar` re-association.
+    pub weights: Option<Vec<(usize, f64)>>,
 }
 
 impl ContactPoint {
@@ -214,23 +219,40 @@ impl ContactFace {
     /// every segment within them).
     pub fn relative_row(&self, point: &ContactPoint, v: [f64; 2]) -> Row {
         let (na, nb) = (1.0 - point.xi, point.xi);
-        let (lo, hi) = match point.reserved {
-            Some((lo, hi)) => (lo.min(point.segment), hi.max(point.segment)),
-            None => (point.segment, point.segment),
+        let (mut first, mut last) = match point.reserved {
+            Some((lo, hi)) => (lo.min(point.segment), hi.max(point.segment) + 1),
+            None => (point.segment, point.segment + 1),
         };
-        let mut row = Vec::with_capacity(hi - lo + 3);
+        if let Some(w) = &point.weights {
+            for &(j, _) in w {
+                first = first.min(j);
+                last = last.max(j);
+            }
+        }
+        let mut row = Vec::with_capacity(last - first + 2);
         row.push((point.slave, v));
-        for k in lo..=hi + 1 {
-            let n = if k == point.segment {
-                na
-            } else if k == point.segment + 1 {
-                nb
-            } else {
-                0.0
+        for k in first..=last {
+            let n = match &point.weights {
+                Some(w) => w.iter().find(|(j, _)| *j == k).map_or(0.0, |(_, c)| *c),
+                None if k == point.segment => na,
+                None if k == point.segment + 1 => nb,
+                None => 0.0,
             };
             row.push((self.master[k], [-n * v[0], -n * v[1]]));
         }
         row
+    }
+
+    /// The master point a point's rows tie it to, in the reference geometry: Σ N_i X_i.
+    pub fn tied_position(&self, mesh: &Mesh, point: &ContactPoint) -> [f64; 2] {
+        let pairs: Vec<(usize, f64)> = match &point.weights {
+            Some(w) => w.clone(),
+            None => vec![(point.segment, 1.0 - point.xi), (point.segment + 1, point.xi)],
+        };
+        pairs.iter().fold([0.0, 0.0], |m, &(j, c)| {
+            let x = mesh.position(self.master[j]);
+            [m[0] + c * x[0], m[1] + c * x[1]]
+        })
     }
 
     /// The normal constraint row of a point.
@@ -373,6 +395,7 @@ pub(crate) fn points_on(mesh: &Mesh, face_master: &[NodeIndex], slave: &[NodeInd
                 slit_tip: false,
                 pressure_from: None,
                 reserved: None,
+                weights: None,
             }
         })
         .collect()

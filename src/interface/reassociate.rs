@@ -91,9 +91,21 @@ fn path_length(mesh: &Mesh, u: &[f64], path: &[NodeIndex]) -> f64 {
         .sum()
 }
 
+/// How a re-associated point is tied to the master face.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Tie {
+    /// To the master point it faces, N_i(ξ) on that segment.
+    Segment,
+    /// To the nearer node of that segment (the paper's approximation).
+    NearestNode,
+    /// To the master face averaged over the point's part of the slave line ([`dual_mortar_weights`]).
+    Mortar,
+}
+
 /// Re-associate every point of every interface with the master segment it now faces. Returns the
 /// points that moved to another segment (or out of contact).
-pub fn reassociate(mesh: &Mesh, interfaces: &mut [Interface], u: &[f64], nearest_node: bool) -> Vec<Reassociation> {
+pub fn reassociate(mesh: &Mesh, interfaces: &mut [Interface], u: &[f64], tie: Tie) -> Vec<Reassociation> {
+    let nearest_node = tie == Tie::NearestNode;
     let mut log = Vec::new();
     for interface in interfaces.iter_mut() {
         if interface.is_tie() {
@@ -102,6 +114,22 @@ pub fn reassociate(mesh: &Mesh, interfaces: &mut [Interface], u: &[f64], nearest
         let name = interface.name.clone();
         for face in interface.faces.iter_mut() {
             reassociate_face(mesh, &name, face, u, nearest_node, &mut log);
+            if tie == Tie::Mortar {
+                let arcs: Vec<f64> = face
+                    .points
+                    .iter()
+                    .map(|p| project_current(mesh, u, &face.master, current(mesh, u, p.slave), Some(p.segment)).2)
+                    .collect();
+                let master_arcs = node_arcs(mesh, u, &face.master);
+                for k in 0..face.points.len() {
+                    let outside = matches!(
+                        face.points[k].normal_state,
+                        NormalState::Outside | NormalState::Held { outside: true }
+                    );
+                    face.points[k].weights = if outside { None } else { dual_mortar_weights(&master_arcs, &arcs, k) };
+                }
+                set_gap_offsets(mesh, face);
+            }
         }
     }
     log
@@ -174,15 +202,89 @@ fn reassociate_face(
             });
         }
     }
-    // Gap offsets for the new associations: g = gap0 + row·u is the current gap.
-    for k in 0..n_points {
+    set_gap_offsets(mesh, face);
+}
+
+/// Gap offsets for the points' current ties: g = gap0 + row·u is the current gap.
+fn set_gap_offsets(mesh: &Mesh, face: &mut ContactFace) {
+    for k in 0..face.points.len() {
         let p = &face.points[k];
         let n = face.normal(mesh, p.segment);
-        let (a, b) = (mesh.position(face.master[p.segment]), mesh.position(face.master[p.segment + 1]));
+        let m = face.tied_position(mesh, p);
         let xr = mesh.position(p.slave);
-        let m = [(1.0 - p.xi) * a[0] + p.xi * b[0], (1.0 - p.xi) * a[1] + p.xi * b[1]];
         face.points[k].gap0 = n[0] * (xr[0] - m[0]) + n[1] * (xr[1] - m[1]);
     }
+}
+
+/// Arc-length coordinate of every node of the deformed master path.
+fn node_arcs(mesh: &Mesh, u: &[f64], path: &[NodeIndex]) -> Vec<f64> {
+    let mut arcs = Vec::with_capacity(path.len());
+    let mut acc = 0.0;
+    arcs.push(0.0);
+    for w in path.windows(2) {
+        let (a, b) = (current(mesh, u, w[0]), current(mesh, u, w[1]));
+        acc += ((b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2)).sqrt();
+        arcs.push(acc);
+    }
+    arcs
+}
+
+/// The master weights of slave point `k` by the dual mortar method (Wohlmuth 2000; Popp et al.
+/// 2010 for contact): its row averages the gap over the slave segments either side of it with the
+/// dual basis ψ_k (2 − 3η at its own end of a segment, 3η − 1 at the other), so that
+/// D_kk = ∫ψ_k N_k is its tributary length and M_kj = ∫ψ_k N_j the master nodes' shares; the weights
+/// are M_kj / Σ_j M_kj. `master_arcs` and `slave_arcs` are arc-length coordinates along the master
+/// path (the slave points' projections). On a slave line matching the master nodes the weights are
+/// those of node-to-segment. `None` where the point's segments reach beyond the master path (the
+/// point then stays node-to-segment) or have no length.
+pub fn dual_mortar_weights(master_arcs: &[f64], slave_arcs: &[f64], k: usize) -> Option<Vec<(usize, f64)>> {
+    let (first, last) = (master_arcs[0], *master_arcs.last()?);
+    let tol = 1e-9 * (last - first).abs().max(f64::MIN_POSITIVE);
+    let hat = |j: usize, a: f64| -> f64 {
+        let x = master_arcs[j];
+        if j > 0 && a >= master_arcs[j - 1] && a <= x {
+            (a - master_arcs[j - 1]) / (x - master_arcs[j - 1])
+        } else if j + 1 < master_arcs.len() && a >= x && a <= master_arcs[j + 1] {
+            (master_arcs[j + 1] - a) / (master_arcs[j + 1] - x)
+        } else {
+            0.0
+        }
+    };
+    let mut m = vec![0.0; master_arcs.len()];
+    let neighbours = [k.checked_sub(1), (k + 1 < slave_arcs.len()).then_some(k + 1)];
+    for other in neighbours.into_iter().flatten() {
+        let (own, far) = (slave_arcs[k], slave_arcs[other]);
+        if (far - own).abs() <= tol {
+            return None;
+        }
+        let (lo, hi) = (own.min(far), own.max(far));
+        if lo < first - tol || hi > last + tol {
+            return None;
+        }
+        // ψ_k along this segment, η = 0 at the point itself
+        let psi = |a: f64| 2.0 - 3.0 * (a - own) / (far - own);
+        // pieces between the master nodes inside [lo, hi]: ψ_k·N_j is quadratic on each (Simpson)
+        let mut cuts: Vec<f64> = master_arcs.iter().copied().filter(|&x| x > lo && x < hi).collect();
+        cuts.insert(0, lo);
+        cuts.push(hi);
+        for piece in cuts.windows(2) {
+            let (p, q) = (piece[0], piece[1]);
+            let mid = 0.5 * (p + q);
+            for (j, mj) in m.iter_mut().enumerate() {
+                let f = |a: f64| psi(a) * hat(j, a);
+                let (fp, fm, fq) = (f(p), f(mid), f(q));
+                if fp != 0.0 || fm != 0.0 || fq != 0.0 {
+                    *mj += (q - p) / 6.0 * (fp + 4.0 * fm + fq);
+                }
+            }
+        }
+    }
+    let d: f64 = m.iter().sum();
+    if !(d > tol) {
+        return None;
+    }
+    // (round-off shares of nodes the point does not reach, as on matching nodes, are dropped)
+    Some(m.iter().enumerate().filter(|(_, &c)| c.abs() > 1e-12 * d).map(|(j, &c)| (j, c / d)).collect())
 }
 
 /// Clip every tributary length to the part of the slave line that now faces the master face, at the
@@ -265,6 +367,7 @@ pub fn uncover_slits(mesh: &Mesh, interfaces: &mut [Interface], u: &[f64]) -> Ve
             if arc > tail_arc + 1e-9 * total {
                 let p = &mut face.points[k];
                 p.normal_state = NormalState::Released;
+                p.weights = None;
                 p.segment = segment;
                 p.xi = raw.clamp(0.0, 1.0);
                 let n = face.normal(mesh, segment);
@@ -285,4 +388,43 @@ pub fn uncover_slits(mesh: &Mesh, interfaces: &mut [Interface], u: &[f64]) -> Ve
         }
     }
     log
+}
+
+#[cfg(test)]
+mod tests {
+    //! The dual mortar weights against what the dual basis guarantees (Wohlmuth 2000, §2):
+    //! ∫ψ_k N_l = δ_kl ∫N_k, so a master face matching the slave line gives node-to-node weights, and
+    //! any linear field of the master face is reproduced at the slave point.
+    use super::dual_mortar_weights;
+
+    #[test]
+    fn matching_nodes_give_node_to_node_weights() {
+        let master = [0.0, 0.1, 0.2, 0.3, 0.4];
+        for k in 0..master.len() {
+            let w = dual_mortar_weights(&master, &master, k).unwrap();
+            assert_eq!(w.len(), 1, "point {k}: {w:?}");
+            assert_eq!(w[0].0, k);
+            assert!((w[0].1 - 1.0).abs() < 1e-14);
+        }
+    }
+
+    #[test]
+    fn a_slid_line_reproduces_linear_fields_at_its_points() {
+        // the slave line slid by 0.37 of a master segment, graded master spacing
+        let master = [0.0, 0.05, 0.11, 0.18, 0.26, 0.35, 0.45];
+        let slave: Vec<f64> = [0.05, 0.1, 0.15, 0.2, 0.25, 0.3].iter().map(|a| a + 0.37 * 0.05).collect();
+        for k in 0..slave.len() {
+            let w = dual_mortar_weights(&master, &slave, k).unwrap();
+            let total: f64 = w.iter().map(|(_, c)| c).sum();
+            assert!((total - 1.0).abs() < 1e-13, "point {k}: weights sum to {total}");
+            // x(a) = 3 + 2a: Σ w_j x(m_j) = x(a_k)
+            let at: f64 = w.iter().map(|&(j, c)| c * (3.0 + 2.0 * master[j])).sum();
+            assert!((at - (3.0 + 2.0 * slave[k])).abs() < 1e-13, "point {k}: {at}");
+            // more than the one segment it faces: the tie is averaged
+            assert!(w.len() >= 2);
+        }
+        // a point whose segments reach beyond the master face stays node-to-segment
+        let beyond: Vec<f64> = slave.iter().map(|a| a + 0.2).collect();
+        assert!(dual_mortar_weights(&master, &beyond, beyond.len() - 1).is_none());
+    }
 }

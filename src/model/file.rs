@@ -152,8 +152,14 @@ pub enum Scheme {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum ReassociationRule {
+    /// Each point tied to the master point it faces: N_i(ξ) on that segment (node-to-segment).
     Segment,
+    /// The paper's approximation: tied to the nearer node of that segment.
     NearestNode,
+    /// Each point tied to the master face averaged over its part of the slave line (segment to
+    /// segment, with the dual mortar basis of the slave line).
+    Mortar,
+    /// Small slip: the pairing never changes.
     None,
 }
 
