@@ -736,6 +736,7 @@ pub fn first_system(model: &Model) -> (usize, IterationSystem) {
         f_ext,
         u_committed: vec![0.0; dof_count],
         frozen_sigma_n: None,
+        soil_sigma_from: None,
         bars: crate::element::bar::BarStates::new(model.mesh.bars.len()),
         soil: soil::initial_field(model),
         placed: Vec::new(),

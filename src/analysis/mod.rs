@@ -43,6 +43,7 @@ pub mod results;
 mod singular;
 mod sink;
 pub mod soil;
+mod soil_normal_stress;
 mod springs;
 mod stage;
 mod state;

@@ -28,11 +28,8 @@ pub struct SpringResult {
 ///
 /// A point of an embedded reinforcement takes the soil's normal stress across its segment
 /// ([`soil::normal_stress_across`]): its row only holds it on the line, and carries about nothing.
-/// That stress is the one at the end of the last converged increment. Taken at the iterate, it
-/// would depend on the shear the point itself puts into the soil next to it, and the increment's
-/// problem can then have more than one solution (the schemes found two, 1 % apart, on
-/// `examples/embedded-pullout`); lagged by an increment it is one problem, the same for every
-/// scheme, and as accurate as the increments are small.
+/// That stress is the one of `State::soil_sigma_from` (or the last converged increment), settled
+/// by passes over the increment (`super::soil_normal_stress`).
 pub fn normal_stress(model: &Model, state: &State, rows: &InterfaceRows, spring: &Spring) -> f64 {
     let face = &state.interfaces[spring.interface].faces[spring.face];
     let p = &face.points[spring.point];
@@ -42,7 +39,8 @@ pub fn normal_stress(model: &Model, state: &State, rows: &InterfaceRows, spring:
         }
         let n = face.normal(&model.mesh, p.segment);
         let hosts = &embedding.hosts[p.segment];
-        return soil::normal_stress_across(model, &state.soil, &state.u_committed, hosts, n).unwrap_or(0.0);
+        let u = state.soil_sigma_from.as_deref().unwrap_or(&state.u_committed);
+        return soil::normal_stress_across(model, &state.soil, u, hosts, n).unwrap_or(0.0);
     }
     if let Some(from) = p.pressure_from.filter(|_| p.in_contact()) {
         let neighbour = rows.springs.iter().find(|s| {

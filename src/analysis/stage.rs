@@ -3,11 +3,12 @@
 //! handed to the sink.
 
 use super::context::Context;
-use super::equilibrium::{equilibrium, IncrementReport};
+use super::equilibrium::IncrementReport;
 use super::loads::external_force;
 use super::results::{reinforcement_balance, StepResults};
 use super::sink::{StepRecord, StepSink};
 use super::soil;
+use super::soil_normal_stress::settled_equilibrium;
 use super::springs::{self, normal_stress};
 use super::state::State;
 use crate::assembly::{internal_force, SoilView};
@@ -129,7 +130,7 @@ pub fn increments(
         for &(n, d, value) in &plan.prescribed {
             state.u[dof(n, d)] = u_start[dof(n, d)] + target * value;
         }
-        let report = match equilibrium(cx, &stage.dofs, state) {
+        let report = match settled_equilibrium(cx, &stage.dofs, state) {
             Ok(report) => report,
             Err(e) => {
                 if e.retryable() && cutbacks < cx.options.analysis.max_cutbacks {
@@ -229,6 +230,7 @@ pub fn complete_increment(
     }
     cx.system.stats.interface_seconds += search_started.elapsed().as_secs_f64();
     state.u_committed = state.u.clone();
+    state.soil_sigma_from = None;
     let record = StepRecord {
         stage: stage.plan.name.clone(),
         stage_index: stage.index,

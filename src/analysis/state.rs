@@ -21,6 +21,9 @@ pub struct State {
     pub u_committed: Vec<f64>,
     /// σn per spring frozen at the start of the stage (when asked for).
     pub frozen_sigma_n: Option<Vec<f64>>,
+    /// The displacements whose soil stress gives an embedded reinforcement's σn in this pass of
+    /// the increment (`None`: the last converged increment's; see `soil_normal_stress`).
+    pub soil_sigma_from: Option<Vec<f64>>,
     /// Bars (in mesh order): ruptured, not yet placed, stretch at placement.
     pub bars: BarStates,
     /// The soil: present elements, Gauss-point stresses, pore pressures.
@@ -42,6 +45,7 @@ impl State {
             f_ext: vec![0.0; dof_count],
             u_committed: vec![0.0; dof_count],
             frozen_sigma_n: None,
+            soil_sigma_from: None,
             bars: BarStates { absent: model.initially_absent_bars(), ..BarStates::new(model.mesh.bars.len()) },
             soil: soil::initial_field(model),
             placed: Vec::new(),
