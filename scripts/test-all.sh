@@ -10,14 +10,16 @@
 #      are installed,
 #   2. the MPI build (--features mpi, in target/mpi): mpirun -np 2 against the sequential run, and
 #   3. a build with no native libraries (GEOSLIP_NO_NATIVE=1) and without the hdf5 feature, which
-#      runs on faer and dense and writes .vtu files.
+#      runs on faer and dense and writes .vtu files;
+# and the Python package (python/, PyO3 + maturin) with its pytest tests against the CLI and the
+# parameter-study example (maturin, pytest, NumPy and matplotlib from PyPI into target/python-env).
 # It first checks the code's layout (scripts/check-imports.py).
 # This is the command the README gives and the one CI runs (.ci/run).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 packages=(libmumps-seq-dev libsuitesparse-dev libclang-dev libopenblas0-pthread libmumps-dev libopenmpi-dev openmpi-bin libhdf5-dev)
-tools=(gmsh python3-vtk9 python3-h5py python3-meshio)
+tools=(gmsh python3-vtk9 python3-h5py python3-meshio python3-venv)
 native_expected=0
 if [ -r /etc/debian_version ] && command -v apt-get >/dev/null 2>&1; then
   missing=()
@@ -63,6 +65,16 @@ if [ "$native_expected" = 1 ]; then
 fi
 echo "== full build: tests${features[*]:+ (${features[*]})}"
 cargo test --workspace --locked "${features[@]}"
+
+echo "== Python package: built by maturin into target/python-env, its tests (pytest) and the parameter study"
+# maturin, pytest, NumPy and matplotlib come from the package registry (PyPI); the module shares
+# target/ with the build above, so only geoslip itself and PyO3 are compiled again
+python3 -m venv target/python-env
+target/python-env/bin/pip install --quiet --disable-pip-version-check "maturin>=1.5,<2" pytest numpy matplotlib
+(cd python && VIRTUAL_ENV="$PWD/../target/python-env" CARGO_TARGET_DIR="$PWD/../target" \
+  ../target/python-env/bin/maturin develop --locked --quiet)
+GEOSLIP_CLI="$PWD/target/debug/geoslip" target/python-env/bin/python -m pytest -q python/tests
+target/python-env/bin/python examples/python/parameter_study.py target/parameter-study.png
 
 if command -v mpirun >/dev/null 2>&1 && [ -e /usr/lib/x86_64-linux-gnu/libdmumps.so ]; then
   echo "== MPI build: mpirun -np 2 against the sequential run (target/debug/geoslip)"

@@ -177,4 +177,8 @@ pub enum Error {
     },
     #[error("{path}: cannot write output: {source}")]
     Write { path: PathBuf, source: std::io::Error },
+    /// The program driving the run asked it to stop (Ctrl-C from Python): the steps before are
+    /// complete and kept.
+    #[error("{}: stopped after {steps} completed steps: {reason}", .file.display())]
+    Stopped { file: PathBuf, steps: usize, reason: String },
 }

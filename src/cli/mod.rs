@@ -50,6 +50,7 @@ fn exit_code(e: &crate::Error) -> ExitCode {
         NotConverged { .. } | NonFinite { .. } => exit::NOT_CONVERGED,
         Solve { .. } | Backend(_) => exit::SOLVER,
         Write { .. } => exit::WRITE,
+        Stopped { .. } => exit::NOT_CONVERGED,
     })
 }
 

@@ -362,6 +362,15 @@ impl ResultWriter {
     ///
     /// # Errors
     /// [`Error::Write`] naming what could not be written or cleared in `out`.
+    /// The prescribed targets the history follows: (label, `x` or `y`, nodes). Its displacement is
+    /// the mean over the nodes, its reaction the sum.
+    pub fn targets(&self) -> Vec<(String, &'static str, Vec<usize>)> {
+        self.targets
+            .iter()
+            .map(|t| (t.label.clone(), if t.direction == Direction::X { "x" } else { "y" }, t.nodes.clone()))
+            .collect()
+    }
+
     pub fn new(model: &Model, out: &Path, solver: &str) -> Result<Self, Error> {
         Self::with_options(model, out, solver, &OutputOptions::default())
     }

@@ -1,0 +1,158 @@
+"""geoslip from Python: soil-geosynthetic interfaces that slip a lot.
+
+The engine runs in this process (the same code as the ``geoslip`` command, compiled into this
+module), with the GIL released while it iterates::
+
+    import geoslip
+    model = geoslip.Model.load("examples/paper-pullout-clay.toml")   # or Model.from_dict({...})
+    assert model.check() == []
+    results = model.run(solver="auto")             # out="folder" keeps the CLI's results folder
+    force = results.history["grid.head (x)"]["reaction"]
+
+Errors are exceptions whose message names the file, the field and the entity: ``ModelError`` for a
+model that cannot be read or checked, ``RunError`` for a run that fails (no equilibrium, a singular
+system); either carries the completed steps as ``.results``. Ctrl-C stops a run at its next
+converged step and raises ``KeyboardInterrupt`` with the completed steps as ``.results``.
+See docs/python.md.
+"""
+
+import csv as _csv
+import json as _json
+import os as _os
+
+import numpy as _np
+
+from ._geoslip import Model as _Model, ModelError, RunError, backends
+
+__all__ = ["Model", "Results", "ModelError", "RunError", "backends"]
+
+
+class Model:
+    """A model file, parsed; ``check()`` lists its problems, ``run()`` runs it."""
+
+    def __init__(self, inner):
+        self._inner = inner
+
+    @staticmethod
+    def load(path):
+        """Read a model file (TOML, or JSON when it ends in .json)."""
+        return Model(_Model.load(_os.fspath(path)))
+
+    @staticmethod
+    def from_dict(data, name="model.json"):
+        """A model from a dict in the model file's schema (as ``geoslip schema`` prints it);
+        ``name`` names it in messages."""
+        return Model(_Model.from_json(_json.dumps(data, allow_nan=True), name))
+
+    @property
+    def source(self):
+        return self._inner.source
+
+    def check(self):
+        """Every problem the check found, as ``geoslip check`` prints them; [] when fine."""
+        return list(self._inner.check())
+
+    def run(self, solver="auto", out=None, progress=None):
+        """Run every stage and return its ``Results``. ``solver``: auto, mumps, umfpack, faer or
+        dense; ``out``: a results folder to write as ``geoslip run --out`` does (None: a temporary
+        one); ``progress(stage, step, load_factor)`` is called after each converged step."""
+        try:
+            raw = self._inner.run(solver, None if out is None else _os.fspath(out), progress)
+        except BaseException as e:  # noqa: B902 - re-raised with the completed steps wrapped
+            partial = getattr(e, "results", None)
+            if isinstance(partial, dict):
+                e.results = Results(partial)
+            raise
+        return Results(raw)
+
+
+class Results:
+    """A run's results: ``history`` (per prescribed target, its ``displacement`` and ``reaction``
+    per converged step, as history.csv), ``steps`` (each converged step's fields as NumPy arrays:
+    ``nodes``, ``bars``, ``interface``, ``soil``), ``events``, ``summary`` (summary.json) and
+    ``completed``."""
+
+    def __init__(self, raw):
+        self.history = raw["history"]
+        self.steps = raw["steps"]
+        self.factors_of_safety = raw.get("factors_of_safety", [])
+        self.summary = _json.loads(raw.get("summary_json") or "{}")
+        self.events = list(self.summary.get("events", []))
+        self.completed = bool(raw.get("completed", False))
+        self.units = raw.get("units", {})
+
+    def __repr__(self):
+        return "<geoslip.Results: {} steps{}, targets {}>".format(
+            len(self.steps), "" if self.completed else " (stopped early)", ", ".join(self.history) or "none"
+        )
+
+    @staticmethod
+    def open(folder):
+        """The results of a folder written by ``geoslip run`` (history.csv and summary.json; each
+        step's fields when it was run with ``--csv``)."""
+        folder = _os.fspath(folder)
+        history = {}
+        with open(_os.path.join(folder, "history.csv"), newline="") as f:
+            reader = _csv.reader(f)
+            header = next(reader)
+            for row in reader:
+                key = "{} ({})".format(row[3], row[4])
+                h = history.setdefault(key, {"stage": [], "step": [], "load_factor": [], "displacement": [], "reaction": []})
+                h["stage"].append(row[0])
+                h["step"].append(int(row[1]))
+                h["load_factor"].append(float(row[2]))
+                h["displacement"].append(float(row[5]))
+                h["reaction"].append(float(row[6]))
+        for h in history.values():
+            for k in ("step", "load_factor", "displacement", "reaction"):
+                h[k] = _np.array(h[k])
+        summary = "{}"
+        path = _os.path.join(folder, "summary.json")
+        if _os.path.exists(path):
+            with open(path) as f:
+                summary = f.read()
+        steps = []
+        for stage_dir in sorted(d for d in _os.listdir(folder) if d.startswith("stage-")):
+            for step_dir in sorted(d for d in _os.listdir(_os.path.join(folder, stage_dir)) if d.startswith("step-")):
+                steps.append(_read_step_csv(_os.path.join(folder, stage_dir, step_dir)))
+        raw = {"history": history, "steps": steps, "summary_json": summary,
+               "completed": _json.loads(summary).get("status") == "completed"}
+        return Results(raw)
+
+
+def _read_table(path):
+    with open(path, newline="") as f:
+        reader = _csv.reader(f)
+        header = next(reader)
+        rows = list(reader)
+    return header, rows
+
+
+def _column(header, rows, starts, kind=float):
+    k = next(i for i, h in enumerate(header) if h == starts or h.startswith(starts + " "))
+    return [kind(r[k]) for r in rows]
+
+
+def _read_step_csv(folder):
+    """One step's fields from the CSV files ``geoslip run --csv`` writes."""
+    step = {"folder": folder}
+    path = _os.path.join(folder, "interface.csv")
+    if _os.path.exists(path):
+        h, rows = _read_table(path)
+        step["interface"] = {
+            "interface": _column(h, rows, "interface", str),
+            "face": _column(h, rows, "face", str),
+            "node": _np.array(_column(h, rows, "slave_node", int)),
+            "x": _np.array([_column(h, rows, "x"), _column(h, rows, "y")]).T,
+            "state": _column(h, rows, "state", str),
+            "tributary": _np.array(_column(h, rows, "tributary")),
+            "lambda": _np.array(_column(h, rows, "lambda")),
+            "sigma_n": _np.array(_column(h, rows, "sigma_n")),
+            "tau": _np.array(_column(h, rows, "tau")),
+            "slip": _np.array(_column(h, rows, "slip")),
+        }
+    path = _os.path.join(folder, "bar_forces.csv")
+    if _os.path.exists(path):
+        h, rows = _read_table(path)
+        step["bars"] = {"id": _np.array(_column(h, rows, "bar", int)), "T": _np.array(_column(h, rows, "T"))}
+    return step
