@@ -164,3 +164,18 @@ fn embedded_grid_uses_the_soils_normal_stress_and_both_faces() {
         assert!(common::relative_error(carried, force) < 1e-6, "{backend:?}: Σ2τℓ {carried} against the pull {force}");
     }
 }
+
+#[test]
+fn the_report_says_the_embedded_face_stands_for_both() {
+    let model = common::model(&embedded_box(0.005, 2), "embedded.toml");
+    let out = tempfile::tempdir().unwrap();
+    let backend = Backend::available()[0];
+    let options = geoslip::analysis::RunOptions::for_model(&model, backend);
+    let mut writer = geoslip::output::ResultWriter::new(&model, out.path(), backend.name()).unwrap();
+    let mut keep = geoslip::analysis::Collect::default();
+    geoslip::output::write_run(&model, &options, &mut writer, &mut keep).unwrap();
+    let report = std::fs::read_to_string(out.path().join("report.md")).unwrap();
+    assert!(report.contains("| grid | coulomb | 2 (embedded: one set of points for both) | 17 |"), "{report}");
+    let interface = std::fs::read_to_string(out.path().join("summary.json")).unwrap();
+    assert!(interface.contains("\"status\": \"completed\""), "{interface}");
+}

@@ -94,12 +94,18 @@ fn model_section(r: &mut String, model: &Model, summary: &RunSummary, units: &cr
     let _ = writeln!(r, "|---|---|---:|---:|");
     for i in &model.interfaces {
         let points: usize = i.faces.iter().map(|f| f.points.len()).sum();
+        // an embedded reinforcement's one face stands for both of its faces
+        let faces = if i.faces.iter().any(|f| f.embedded.is_some()) {
+            "2 (embedded: one set of points for both)".to_string()
+        } else {
+            i.faces.len().to_string()
+        };
         let _ = writeln!(
             r,
             "| {} | {} | {} | {} |",
             i.name,
             i.faces.iter().map(|f| f.law.name()).collect::<Vec<_>>().join(" / "),
-            i.faces.len(),
+            faces,
             points
         );
     }
