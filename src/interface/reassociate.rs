@@ -105,7 +105,6 @@ pub enum Tie {
 /// Re-associate every point of every interface with the master segment it now faces. Returns the
 /// points that moved to another segment (or out of contact).
 pub fn reassociate(mesh: &Mesh, interfaces: &mut [Interface], u: &[f64], tie: Tie) -> Vec<Reassociation> {
-    let nearest_node = tie == Tie::NearestNode;
     let mut log = Vec::new();
     for interface in interfaces.iter_mut() {
         if interface.is_tie() {
@@ -113,23 +112,7 @@ pub fn reassociate(mesh: &Mesh, interfaces: &mut [Interface], u: &[f64], tie: Ti
         }
         let name = interface.name.clone();
         for face in interface.faces.iter_mut() {
-            reassociate_face(mesh, &name, face, u, nearest_node, &mut log);
-            if tie == Tie::Mortar {
-                let arcs: Vec<f64> = face
-                    .points
-                    .iter()
-                    .map(|p| project_current(mesh, u, &face.master, current(mesh, u, p.slave), Some(p.segment)).2)
-                    .collect();
-                let master_arcs = node_arcs(mesh, u, &face.master);
-                for k in 0..face.points.len() {
-                    let outside = matches!(
-                        face.points[k].normal_state,
-                        NormalState::Outside | NormalState::Held { outside: true }
-                    );
-                    face.points[k].weights = if outside { None } else { dual_mortar_weights(&master_arcs, &arcs, k) };
-                }
-                set_gap_offsets(mesh, face);
-            }
+            reassociate_face(mesh, &name, face, u, tie, &mut log);
         }
     }
     log
@@ -140,9 +123,10 @@ fn reassociate_face(
     interface: &str,
     face: &mut ContactFace,
     u: &[f64],
-    nearest_node: bool,
+    tie: Tie,
     log: &mut Vec<Reassociation>,
 ) {
+    let nearest_node = tie == Tie::NearestNode;
     let total = path_length(mesh, u, &face.master);
     let n_points = face.points.len();
     // Project every slave point on the deformed master face.
@@ -200,6 +184,14 @@ fn reassociate_face(
                 to: Some([mesh.node_id(face.master[segment]), mesh.node_id(face.master[segment + 1])]),
                 xi,
             });
+        }
+    }
+    if tie == Tie::Mortar {
+        let master_arcs = node_arcs(mesh, u, &face.master);
+        for k in 0..n_points {
+            let outside =
+                matches!(face.points[k].normal_state, NormalState::Outside | NormalState::Held { outside: true });
+            face.points[k].weights = if outside { None } else { dual_mortar_weights(&master_arcs, &arcs, k) };
         }
     }
     set_gap_offsets(mesh, face);
@@ -371,10 +363,9 @@ pub fn uncover_slits(mesh: &Mesh, interfaces: &mut [Interface], u: &[f64]) -> Ve
                 p.segment = segment;
                 p.xi = raw.clamp(0.0, 1.0);
                 let n = face.normal(mesh, segment);
-                let (a, b) = (mesh.position(face.master[segment]), mesh.position(face.master[segment + 1]));
+                let m = face.tied_position(mesh, &face.points[k]);
                 let xr = mesh.position(face.points[k].slave);
                 let xi = face.points[k].xi;
-                let m = [(1.0 - xi) * a[0] + xi * b[0], (1.0 - xi) * a[1] + xi * b[1]];
                 face.points[k].gap0 = n[0] * (xr[0] - m[0]) + n[1] * (xr[1] - m[1]);
                 log.push(Reassociation {
                     interface: name.clone(),
