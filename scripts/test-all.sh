@@ -8,9 +8,10 @@
 # results.xdmf back). It then tests
 #   1. the full build (with the hdf5 feature), which must have MUMPS and UMFPACK when the packages
 #      are installed,
-#   2. the MPI build (--features mpi, in target/mpi): mpirun -np 2 against the sequential run, and
+#   2. the MPI build (--features mpi): mpirun -np 2 against the sequential run, and
 #   3. a build with no native libraries (GEOSLIP_NO_NATIVE=1) and without the hdf5 feature, which
-#      runs on faer and dense and writes .vtu files;
+#      runs on faer and dense and writes .vtu files (its unit tests and the integration tests of
+#      what differs in it: the commands, the .vtu output, killed runs, the paper's examples);
 # and the Python package (python/, PyO3 + maturin) with its pytest tests against the CLI and the
 # parameter-study example (maturin, pytest, NumPy and matplotlib from PyPI into target/python-env).
 # It first checks the code's layout (scripts/check-imports.py).
@@ -77,15 +78,23 @@ GEOSLIP_CLI="$PWD/target/debug/geoslip" target/python-env/bin/python -m pytest -
 target/python-env/bin/python examples/python/parameter_study.py target/parameter-study.png
 
 if command -v mpirun >/dev/null 2>&1 && [ -e /usr/lib/x86_64-linux-gnu/libdmumps.so ]; then
-  echo "== MPI build: mpirun -np 2 against the sequential run (target/debug/geoslip)"
-  GEOSLIP_SEQUENTIAL="$PWD/target/debug/geoslip" \
-    cargo test --locked --features mpi --target-dir target/mpi --test mpi_agreement
+  echo "== MPI build: mpirun -np 2 against the sequential run"
+  # built in the same target folder, so that only the crates the mpi feature changes are compiled
+  # again; the sequential binary it is compared with is kept aside first, because the MPI build
+  # replaces target/debug/geoslip
+  cp target/debug/geoslip target/geoslip-sequential
+  GEOSLIP_SEQUENTIAL="$PWD/target/geoslip-sequential" \
+    cargo test --locked --features mpi --test mpi_agreement
 elif [ "$native_expected" = 1 ]; then
   echo "error: the MPI packages are installed but mpirun or libdmumps.so is missing"; exit 1
 else
   echo "== MPI build: skipped (needs libmumps-dev, libopenmpi-dev and openmpi-bin)"
 fi
 
-echo "== build without native libraries and without HDF5: tests"
-GEOSLIP_NO_NATIVE=1 cargo test --workspace --locked
+echo "== build without native libraries and without HDF5: unit tests and the tests of what differs"
+# every integration test ran above on faer and dense as well; here the build itself, the commands,
+# the .vtu output read back, killed runs without HDF5, and the paper's examples on this build
+GEOSLIP_NO_NATIVE=1 cargo test --locked -p geoslip-sys
+GEOSLIP_NO_NATIVE=1 cargo test --locked -p geoslip --lib --bins --test cli --test vtk_readback \
+  --test killed_runs --test paper_examples --test kept_steps --test untrusted_model_files
 echo "== all tests passed ($backends, and faer/dense alone)"
