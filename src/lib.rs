@@ -15,6 +15,7 @@
 
 pub mod analysis;
 pub mod assembly;
+pub mod calibration;
 pub mod cli;
 pub mod dofs;
 pub mod element;

@@ -9,11 +9,15 @@ module), with the GIL released while it iterates::
     results = model.run(solver="auto")             # out="folder" keeps the CLI's results folder
     force = results.history["grid.head (x)"]["reaction"]
 
+    fit = geoslip.calibrate("lab/direct-shear.toml")   # or a dict in the calibration file's schema
+    print(fit.parameters["friction_angle"].interval, fit.law_block)
+
 Errors are exceptions whose message names the file, the field and the entity: ``ModelError`` for a
 model that cannot be read or checked, ``RunError`` for a run that fails (no equilibrium, a singular
 system); either carries the completed steps as ``.results``. Ctrl-C stops a run at its next
 converged step and raises ``KeyboardInterrupt`` with the completed steps as ``.results``.
-See docs/python.md.
+``CalibrationError`` is raised by ``calibrate`` for curves it cannot read or parameters the data
+cannot identify. See docs/python.md and docs/calibration.md.
 """
 
 import csv as _csv
@@ -22,9 +26,10 @@ import os as _os
 
 import numpy as _np
 
-from ._geoslip import Model as _Model, ModelError, RunError, backends
+from ._geoslip import Model as _Model, ModelError, RunError, CalibrationError, backends
+from ._geoslip import calibrate as _calibrate
 
-__all__ = ["Model", "Results", "ModelError", "RunError", "backends"]
+__all__ = ["Model", "Results", "ModelError", "RunError", "CalibrationError", "Calibration", "calibrate", "backends"]
 
 
 class Model:
@@ -156,3 +161,65 @@ def _read_step_csv(folder):
         h, rows = _read_table(path)
         step["bars"] = {"id": _np.array(_column(h, rows, "bar", int)), "T": _np.array(_column(h, rows, "T"))}
     return step
+
+
+class Parameter:
+    """One parameter of a fitted law: ``value`` (in ``unit``), and for a fitted one its
+    ``standard_error`` and 95 % ``interval`` (``None`` for a parameter held under ``fixed``)."""
+
+    def __init__(self, raw):
+        self.name = raw["name"]
+        self.unit = raw["unit"]
+        self.value = raw["value"]
+        self.fitted = raw["fitted"]
+        self.standard_error = raw["standard_error"]
+        self.interval = None if raw["interval"] is None else tuple(raw["interval"])
+
+    def __repr__(self):
+        if self.fitted:
+            return (f"Parameter({self.name} = {self.value:.6g} {self.unit} ± {self.standard_error:.3g}, "
+                    f"95 %: {self.interval[0]:.6g} … {self.interval[1]:.6g})")
+        return f"Parameter({self.name} = {self.value:.6g} {self.unit}, fixed)"
+
+
+class Calibration:
+    """A fitted law: ``parameters`` (name -> ``Parameter``), ``correlation`` (NumPy, over
+    ``fitted``, in that order), ``law`` (a dict for an interface's ``law`` in a model dict),
+    ``law_block`` (the TOML line to paste), ``curves`` (per curve: ``condition`` [kPa], ``x`` [m],
+    ``measured``, ``modelled``, ``smooth_x``, ``smooth_y`` as NumPy arrays), ``warnings``,
+    ``weighted_rms``, ``points``, ``degrees_of_freedom``."""
+
+    def __init__(self, raw):
+        self.test = raw["test"]
+        self.law_name = raw["law"]
+        self.parameters = {p["name"]: Parameter(p) for p in raw["parameters"]}
+        self.fitted = list(raw["fitted"])
+        self.correlation = _np.array(raw["correlation"], dtype=float)
+        self.law = raw["law_spec"]
+        self.law_block = raw["law_block"]
+        self.warnings = list(raw["warnings"])
+        self.weighted_rms = raw["weighted_rms"]
+        self.points = raw["points"]
+        self.degrees_of_freedom = raw["degrees_of_freedom"]
+        self.curves = [
+            {k: (_np.asarray(v, dtype=float) if isinstance(v, list) else v) for k, v in c.items()}
+            for c in raw["curves"]
+        ]
+
+    def __repr__(self):
+        return f"Calibration({self.law_name}: " + ", ".join(repr(p) for p in self.parameters.values()) + ")"
+
+
+def calibrate(spec, out=None, name="calibration.json"):
+    """Fit an interface law to measured curves, as ``geoslip calibrate`` does. ``spec``: a
+    calibration file (TOML) or a dict in its schema (``test``, ``data``, ``law``, optional
+    ``initial``, ``fixed``, ``pull_out``; see docs/calibration.md), whose ``data`` is taken from the
+    current folder (``name`` names it in messages). ``out``: a folder for the report, the plots and
+    the law block. Raises ``CalibrationError`` naming what is wrong, or the parameters the data
+    cannot identify."""
+    out = None if out is None else _os.fspath(out)
+    if isinstance(spec, dict):
+        raw = _calibrate(name, _json.dumps(spec), out)
+    else:
+        raw = _calibrate(_os.fspath(spec), None, out)
+    return Calibration(_json.loads(raw))

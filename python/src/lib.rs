@@ -26,6 +26,13 @@ create_exception!(
 );
 create_exception!(
     geoslip,
+    CalibrationError,
+    PyException,
+    "A calibration that gave no parameters: unreadable curves or file (named with the line and column), \
+     parameters the data cannot identify (named), or a fit that did not converge."
+);
+create_exception!(
+    geoslip,
     RunError,
     PyException,
     "A run that failed: no equilibrium, a singular system, a solver or output error."
@@ -323,9 +330,37 @@ fn results(
     Ok(out.into_any().unbind())
 }
 
+/// Fit an interface law to measured curves: `path` is a calibration file (TOML), or, with `text`,
+/// the name the JSON text of a dict in its schema goes by (its `data` taken from the folder of
+/// `path`). The fit runs with the GIL released; `out` (optional) receives what `geoslip calibrate`
+/// writes. Returns the calibration as JSON text (`geoslip.calibrate` makes it an object).
+#[pyfunction]
+#[pyo3(signature = (path, text = None, out = None))]
+fn calibrate(py: Python<'_>, path: PathBuf, text: Option<String>, out: Option<PathBuf>) -> PyResult<String> {
+    use geoslip::calibration::{self, report, spec};
+    let fail = |e: calibration::CalibrationError| CalibrationError::new_err(e.to_string());
+    let spec = match text {
+        None => spec::load(&path).map_err(fail)?,
+        Some(text) => {
+            let file: spec::CalibrationFile = serde_json::from_str(&text)
+                .map_err(|e| CalibrationError::new_err(format!("{}: {e}", path.display())))?;
+            spec::check(&path, file).map_err(fail)?
+        }
+    };
+    let c = py.allow_threads(|| calibration::calibrate(&spec)).map_err(fail)?;
+    if let Some(out) = out {
+        report::write(&c, &out).map_err(fail)?;
+    }
+    let mut json = report::json(&c);
+    json["law_spec"] = serde_json::to_value(c.law()).unwrap_or_default();
+    Ok(json.to_string())
+}
+
 #[pymodule]
 fn _geoslip(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Model>()?;
+    m.add_function(wrap_pyfunction!(calibrate, m)?)?;
+    m.add("CalibrationError", m.py().get_type::<CalibrationError>())?;
     m.add("ModelError", m.py().get_type::<ModelError>())?;
     m.add("RunError", m.py().get_type::<RunError>())?;
     m.add("backends", Backend::available().iter().map(|b| b.name()).collect::<Vec<_>>())?;

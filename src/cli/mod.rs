@@ -1,6 +1,7 @@
 //! The geoslip command line (the `geoslip` and `geoslip-mpi` programs).
 
 mod bench;
+mod calibrate;
 pub mod measure;
 mod progress;
 mod pullout_bench;
@@ -115,6 +116,16 @@ enum Command {
         #[arg(long)]
         trust_geo: bool,
     },
+    /// Fit an interface law to measured curves (direct-shear τ–δ or pull-out P–δ at several normal
+    /// stresses) and write each parameter with its standard error and 95 % interval, the fitted
+    /// curves and the law ready to paste into a model (docs/calibration.md).
+    Calibrate {
+        /// Calibration file (TOML): the test, the curves' CSV file, the law.
+        spec: PathBuf,
+        /// Output folder (default: results/<title>).
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
     /// Print the JSON Schema of the model file.
     Schema,
     /// List the solver backends compiled into this build.
@@ -191,6 +202,7 @@ fn command_line() -> ExitCode {
     let cli = Cli::parse();
     let cli_flags = (cli.quiet, cli.verbose);
     match cli.command {
+        Command::Calibrate { spec, out } => calibrate::calibrate(&spec, out),
         Command::Schema => {
             println!("{}", crate::model::schema());
             ExitCode::SUCCESS

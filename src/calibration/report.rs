@@ -1,0 +1,212 @@
+//! What a calibration writes: `calibration.md` (each parameter with its standard error and 95 %
+//! interval, the correlation matrix, the fit's quality, the warnings), `calibration.json` (the same
+//! for programs), `interface-law.toml` (the `law = {…}` line ready to paste into a model's
+//! interface) and `fitted-curves.png`/`.svg` (the measured points and the fitted curves).
+
+use super::error::CalibrationError;
+use super::spec::TestKind;
+use super::Calibration;
+use crate::output::plots::{write_figure, Panel};
+use crate::output::write_atomically;
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// `v` with `digits` significant digits, as a plain decimal where that is short.
+pub fn significant(v: f64, digits: usize) -> String {
+    if v == 0.0 || !v.is_finite() {
+        return format!("{v}");
+    }
+    let magnitude = v.abs().log10().floor() as i32;
+    if (-4..=6).contains(&magnitude) {
+        let decimals = (digits as i32 - 1 - magnitude).max(0) as usize;
+        let s = format!("{v:.decimals$}");
+        // a decimal point is kept so that TOML reads a float
+        if s.contains('.') {
+            s
+        } else {
+            format!("{s}.0")
+        }
+    } else {
+        format!("{v:.prec$e}", prec = digits - 1)
+    }
+}
+
+/// The `law = {…}` line of the fitted law, with a comment saying where it comes from.
+pub fn law_block(c: &Calibration) -> String {
+    let fields: Vec<String> =
+        c.parameters.iter().map(|p| format!("{} = {}", p.name, significant(p.value, 5))).collect();
+    format!(
+        "# {} law fitted by geoslip calibrate to {} ({} curves, {} points); lengths in m, stresses in kPa.\n\
+         # Paste the law line into an [[interfaces]] entry of a model in metres and kilonewtons.\n\
+         law = {{ type = \"{}\", {} }}\n",
+        c.spec.law.name(),
+        c.spec.data.file_name().map(|f| f.to_string_lossy().into_owned()).unwrap_or_default(),
+        c.curves.len(),
+        c.fit.points,
+        c.spec.law.name(),
+        fields.join(", ")
+    )
+}
+
+/// The report in Markdown.
+pub fn markdown(c: &Calibration) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "# Calibration: {}\n", c.spec.title);
+    let what = match c.spec.test {
+        TestKind::DirectShear => "direct-shear curves (τ against slip; the law itself is the model)".to_string(),
+        TestKind::PullOut => match (&c.spec.pull_out, c.box_embedded_length) {
+            (Some(p), Some(l)) => format!(
+                "pull-out curves, modelled by the finite-element pull-out box (reinforcement {l:.4} m on the box's \
+                 element columns, EA = {} kN/m)",
+                p.axial_stiffness
+            ),
+            (Some(p), None) => format!(
+                "pull-out curves, modelled by the progressive-slip closed form on a rigid soil at σn = the \
+                 surcharge (L = {} m, EA = {} kN/m, {} faces)",
+                p.embedded_length, p.axial_stiffness, p.faces
+            ),
+            _ => "pull-out curves".into(),
+        },
+    };
+    let conditions: Vec<String> = c.curves.iter().map(|k| format!("{}", k.condition)).collect();
+    let _ = writeln!(
+        s,
+        "The `{}` law fitted by least squares (Levenberg–Marquardt) to {what}: {} curves at {} kPa, {} points, \
+         {} degrees of freedom.\n",
+        c.spec.law.name(),
+        c.curves.len(),
+        conditions.join(", "),
+        c.fit.points,
+        c.fit.degrees_of_freedom
+    );
+    let _ = writeln!(s, "| parameter | value | unit | standard error | 95 % interval |\n|---|---|---|---|---|");
+    for p in &c.parameters {
+        match (p.standard_error, p.interval) {
+            (Some(se), Some((lo, hi))) => {
+                let _ = writeln!(
+                    s,
+                    "| {} | {} | {} | {} | {} … {} |",
+                    p.name,
+                    significant(p.value, 5),
+                    p.unit,
+                    significant(se, 3),
+                    significant(lo, 5),
+                    significant(hi, 5)
+                );
+            }
+            _ => {
+                let _ = writeln!(s, "| {} | {} | {} | (fixed) | |", p.name, significant(p.value, 5), p.unit);
+            }
+        }
+    }
+    let fitted: Vec<&str> = c.parameters.iter().filter(|p| p.fitted).map(|p| p.name).collect();
+    let _ = writeln!(
+        s,
+        "\nThe intervals are value ± t·SE with Student's t({}) = {:.4}, the standard errors from s²·(JᵀJ)⁻¹ at the \
+         fit (s² the residuals' sum of squares over the degrees of freedom): they hold as far as the model is \
+         linear in its parameters near the fit and the scatter is independent and even.\n",
+        c.fit.degrees_of_freedom, c.fit.t_quantile
+    );
+    let _ = writeln!(s, "## Correlation of the fitted parameters\n");
+    let _ = writeln!(s, "| | {} |\n|---|{}", fitted.join(" | "), "---|".repeat(fitted.len()));
+    for (a, row) in c.correlation.iter().enumerate() {
+        let cells: Vec<String> = row.iter().map(|r| format!("{r:.3}")).collect();
+        let _ = writeln!(s, "| {} | {} |", fitted[a], cells.join(" | "));
+    }
+    let unit = match c.spec.test {
+        TestKind::DirectShear => "kPa",
+        TestKind::PullOut => "kN/m",
+    };
+    let _ = writeln!(
+        s,
+        "\n## Fit\n\nEach curve's residuals are weighted by 1/(its largest measured value), so that every curve \
+         counts alike; the weighted root mean square is {} ({:.2} % of a curve's largest value).\n",
+        significant(c.fit.rms, 3),
+        100.0 * c.fit.rms
+    );
+    let _ = writeln!(
+        s,
+        "| curve at [kPa] | points | RMS residual [{unit}] | largest measured [{unit}] |\n|---|---|---|---|"
+    );
+    for (k, m) in c.curves.iter().zip(&c.modelled) {
+        let rms = (m.iter().zip(&k.y).map(|(m, y)| (m - y).powi(2)).sum::<f64>() / m.len() as f64).sqrt();
+        let top = k.y.iter().copied().fold(f64::MIN, f64::max);
+        let _ = writeln!(s, "| {} | {} | {} | {} |", k.condition, k.x.len(), significant(rms, 3), significant(top, 4));
+    }
+    if !c.warnings.is_empty() {
+        let _ = writeln!(s, "\n## Warnings\n");
+        for w in &c.warnings {
+            let _ = writeln!(s, "- {w}");
+        }
+    }
+    let _ = writeln!(
+        s,
+        "\n## The law for a model\n\n```toml\n{}```\n\nPlots: fitted-curves.png, fitted-curves.svg.",
+        law_block(c)
+    );
+    s
+}
+
+/// The calibration as JSON.
+pub fn json(c: &Calibration) -> serde_json::Value {
+    serde_json::json!({
+        "title": c.spec.title,
+        "test": c.spec.test.name(),
+        "law": c.spec.law.name(),
+        "data": c.spec.data,
+        "parameters": c.parameters,
+        "fitted": c.parameters.iter().filter(|p| p.fitted).map(|p| p.name).collect::<Vec<_>>(),
+        "correlation": c.correlation,
+        "weighted_rms": c.fit.rms,
+        "points": c.fit.points,
+        "degrees_of_freedom": c.fit.degrees_of_freedom,
+        "t_quantile": c.fit.t_quantile,
+        "evaluations": c.fit.evaluations,
+        "warnings": c.warnings,
+        "box_embedded_length": c.box_embedded_length,
+        "law_block": law_block(c),
+        "curves": c.curves.iter().zip(&c.modelled).zip(&c.smooth).map(|((k, m), sm)| serde_json::json!({
+            "condition": k.condition,
+            "x": k.x,
+            "measured": k.y,
+            "modelled": m,
+            "smooth_x": sm.iter().map(|p| p.0).collect::<Vec<_>>(),
+            "smooth_y": sm.iter().map(|p| p.1).collect::<Vec<_>>(),
+        })).collect::<Vec<_>>(),
+    })
+}
+
+/// Write the report, the JSON, the law block and the plots into `out`.
+///
+/// # Errors
+/// [`CalibrationError::Write`] naming the file.
+pub fn write(c: &Calibration, out: &Path) -> Result<(), CalibrationError> {
+    let fail = |e: crate::Error| match e {
+        crate::Error::Write { path, source } => CalibrationError::Write { path, source },
+        other => CalibrationError::Write { path: out.into(), source: std::io::Error::other(other.to_string()) },
+    };
+    write_atomically(&out.join("calibration.md"), markdown(c).as_bytes()).map_err(fail)?;
+    let text = serde_json::to_string_pretty(&json(c)).unwrap_or_default();
+    write_atomically(&out.join("calibration.json"), text.as_bytes()).map_err(fail)?;
+    write_atomically(&out.join("interface-law.toml"), law_block(c).as_bytes()).map_err(fail)?;
+    let (x_label, y_label, what) = match c.spec.test {
+        TestKind::DirectShear => ("slip [mm]", "shear stress τ [kPa]", "σn"),
+        TestKind::PullOut => ("head displacement [mm]", "pull-out force [kN/m]", "q"),
+    };
+    let mut series = Vec::new();
+    let mut markers = Vec::new();
+    for (k, sm) in c.curves.iter().zip(&c.smooth) {
+        let label = format!("{what} = {} kPa, measured", k.condition);
+        series.push((label.clone(), k.x.iter().zip(&k.y).map(|(x, y)| (1e3 * x, *y)).collect()));
+        markers.push(label);
+        series.push((format!("{what} = {} kPa, fitted", k.condition), sm.iter().map(|(x, y)| (1e3 * x, *y)).collect()));
+    }
+    let panel = Panel {
+        title: format!("{}: {} law fitted", c.spec.title, c.spec.law.name()),
+        x_label: x_label.into(),
+        y_label: y_label.into(),
+        series,
+        markers_only: markers,
+    };
+    write_figure(out, "fitted-curves", &[panel], 1).map_err(fail)
+}

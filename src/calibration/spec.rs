@@ -1,0 +1,275 @@
+//! The calibration file (TOML, or a dict from Python): which test, which curves, which law, and for a
+//! pull-out test the reinforcement (and for the finite-element model, the box). Lengths in m, forces
+//! in kN, stresses in kPa.
+
+use super::error::CalibrationError;
+use super::parameters::{LawFamily, Parameter};
+use serde::Deserialize;
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// The laboratory test the curves come from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum TestKind {
+    /// τ against slip at several normal stresses: the law itself is the model (a uniform slip under
+    /// a uniform σn, closed-forms.md §4).
+    DirectShear,
+    /// Pull-out force per metre width against the head's displacement at several surcharges.
+    PullOut,
+}
+
+impl TestKind {
+    pub fn name(self) -> &'static str {
+        match self {
+            TestKind::DirectShear => "direct-shear",
+            TestKind::PullOut => "pull-out",
+        }
+    }
+}
+
+/// How a pull-out curve is computed from the law's parameters.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum PullOutModel {
+    /// The progressive-slip solution on a rigid soil at σn = the surcharge, with the embedded
+    /// length shortened as the reinforcement leaves the soil (closed-forms.md §1–2): Coulomb only.
+    #[default]
+    ClosedForm,
+    /// The pull-out box itself, run by geoslip for every trial of the parameters: any law, the
+    /// soil's stiffness and the σn the multipliers give.
+    FiniteElement,
+}
+
+/// The soil and the box of a pull-out test for the finite-element model.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PullOutBoxSpec {
+    /// Inside length of the box [m] (front face to back wall).
+    pub length: f64,
+    /// Height of soil [m]; the reinforcement lies at mid-height.
+    pub height: f64,
+    pub youngs_modulus: f64,
+    pub poissons_ratio: f64,
+    #[serde(default)]
+    pub unit_weight: f64,
+    /// Elements along the box (default 40).
+    #[serde(default)]
+    pub elements: Option<usize>,
+    /// Pull steps up to the largest measured displacement (default 40).
+    #[serde(default)]
+    pub steps: Option<usize>,
+}
+
+/// The reinforcement of a pull-out test.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PullOutSpec {
+    /// Length in the soil at the start [m].
+    pub embedded_length: f64,
+    /// EA per metre width [kN/m].
+    pub axial_stiffness: f64,
+    /// Faces in contact with soil (2: soil above and below).
+    #[serde(default = "two")]
+    pub faces: u32,
+    #[serde(default)]
+    pub model: PullOutModel,
+    /// For `model = "finite-element"`.
+    #[serde(default, rename = "box")]
+    pub box_: Option<PullOutBoxSpec>,
+}
+
+fn two() -> u32 {
+    2
+}
+
+/// A calibration file as written.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CalibrationFile {
+    #[serde(default)]
+    pub title: Option<String>,
+    pub test: TestKind,
+    /// The measured curves (CSV with units in the header), relative to this file.
+    pub data: PathBuf,
+    /// The law to fit: `coulomb`, `softening` (peak, then softening to a residual), `hyperbolic`.
+    pub law: String,
+    /// Starting values of parameters (otherwise estimated from the curves).
+    #[serde(default)]
+    pub initial: BTreeMap<String, f64>,
+    /// Parameters held at these values, not fitted.
+    #[serde(default)]
+    pub fixed: BTreeMap<String, f64>,
+    #[serde(default)]
+    pub pull_out: Option<PullOutSpec>,
+}
+
+/// A checked calibration file.
+#[derive(Debug, Clone)]
+pub struct CalibrationSpec {
+    pub path: PathBuf,
+    pub title: String,
+    pub test: TestKind,
+    pub data: PathBuf,
+    pub law: LawFamily,
+    pub initial: Vec<(Parameter, f64)>,
+    pub fixed: Vec<(Parameter, f64)>,
+    pub pull_out: Option<PullOutSpec>,
+}
+
+/// Read and check a calibration file.
+///
+/// # Errors
+/// [`CalibrationError::Read`], or [`CalibrationError::Spec`] naming the field.
+pub fn load(path: &Path) -> Result<CalibrationSpec, CalibrationError> {
+    let text = std::fs::read_to_string(path).map_err(|source| CalibrationError::Read { path: path.into(), source })?;
+    let de = toml::Deserializer::parse(&text).map_err(|e| CalibrationError::Spec {
+        path: path.into(),
+        field: "(file)".into(),
+        message: e.to_string(),
+    })?;
+    let file: CalibrationFile = serde_path_to_error::deserialize(de).map_err(|e| CalibrationError::Spec {
+        path: path.into(),
+        field: e.path().to_string(),
+        message: e.inner().to_string(),
+    })?;
+    check(path, file)
+}
+
+/// Check a calibration file read by other means (from Python, as JSON): `path` names it in messages,
+/// and `data` is relative to its folder.
+///
+/// # Errors
+/// [`CalibrationError::Spec`] naming the field.
+pub fn check(path: &Path, file: CalibrationFile) -> Result<CalibrationSpec, CalibrationError> {
+    let spec_error = |field: String, message: String| CalibrationError::Spec { path: path.into(), field, message };
+    let law =
+        match file.law.as_str() {
+            "coulomb" => LawFamily::Coulomb,
+            "softening" => LawFamily::Softening,
+            "hyperbolic" => LawFamily::Hyperbolic,
+            "peak-residual" => return Err(spec_error(
+                "law".into(),
+                "the peak-residual law drops at once from the peak to the residual, so measured curves fix its peak \
+                 only between two of their points: fit \"softening\" (the same law with a measured softening slip)"
+                    .into(),
+            )),
+            other => {
+                return Err(spec_error(
+                    "law".into(),
+                    format!("\"{other}\": one of coulomb, softening, hyperbolic (the laws a calibration fits)"),
+                ))
+            }
+        };
+    let parameters = law.parameters();
+    let named = |table: &str, map: &BTreeMap<String, f64>| -> Result<Vec<(Parameter, f64)>, CalibrationError> {
+        map.iter()
+            .map(|(key, &value)| {
+                let p = parameters.iter().copied().find(|p| p.key() == key).ok_or_else(|| {
+                    spec_error(
+                        format!("{table}.{key}"),
+                        format!(
+                            "not a parameter of the {} law: {}",
+                            law.name(),
+                            parameters.iter().map(|p| p.key()).collect::<Vec<_>>().join(", ")
+                        ),
+                    )
+                })?;
+                if !value.is_finite() {
+                    return Err(spec_error(format!("{table}.{key}"), "not a finite number".into()));
+                }
+                Ok((p, value))
+            })
+            .collect()
+    };
+    let initial = named("initial", &file.initial)?;
+    let fixed = named("fixed", &file.fixed)?;
+    if fixed.len() == parameters.len() {
+        return Err(spec_error("fixed".into(), "every parameter is fixed: nothing is left to fit".into()));
+    }
+    match (file.test, &file.pull_out) {
+        (TestKind::PullOut, None) => {
+            return Err(spec_error(
+                "pull_out".into(),
+                "a pull-out test needs [pull_out] with embedded_length and axial_stiffness".into(),
+            ))
+        }
+        (TestKind::DirectShear, Some(_)) => {
+            return Err(spec_error("pull_out".into(), "given for a direct-shear test".into()));
+        }
+        _ => {}
+    }
+    if let Some(p) = &file.pull_out {
+        let positive =
+            [("pull_out.embedded_length", p.embedded_length), ("pull_out.axial_stiffness", p.axial_stiffness)];
+        for (field, v) in positive {
+            if !(v > 0.0 && v.is_finite()) {
+                return Err(spec_error(field.into(), format!("{v} is not a positive number")));
+            }
+        }
+        if !(1..=2).contains(&p.faces) {
+            return Err(spec_error("pull_out.faces".into(), format!("{}: one or two faces", p.faces)));
+        }
+        match p.model {
+            PullOutModel::ClosedForm if law != LawFamily::Coulomb => {
+                return Err(spec_error(
+                    "pull_out.model".into(),
+                    format!(
+                    "the closed form holds for the coulomb law only; fit the {} law with model = \"finite-element\"",
+                    law.name()
+                ),
+                ))
+            }
+            PullOutModel::FiniteElement => {
+                let Some(b) = &p.box_ else {
+                    return Err(spec_error(
+                        "pull_out.box".into(),
+                        "the finite-element model needs the box: length, height, youngs_modulus, poissons_ratio".into(),
+                    ));
+                };
+                for (field, v) in [("length", b.length), ("height", b.height), ("youngs_modulus", b.youngs_modulus)] {
+                    if !(v > 0.0 && v.is_finite()) {
+                        return Err(spec_error(
+                            format!("pull_out.box.{field}"),
+                            format!("{v} is not a positive number"),
+                        ));
+                    }
+                }
+                if !(b.poissons_ratio >= 0.0 && b.poissons_ratio < 0.5) {
+                    return Err(spec_error(
+                        "pull_out.box.poissons_ratio".into(),
+                        format!("{} is not in [0, 0.5)", b.poissons_ratio),
+                    ));
+                }
+                if b.length < p.embedded_length {
+                    return Err(spec_error(
+                        "pull_out.box.length".into(),
+                        format!("{} m is shorter than the embedded length {} m", b.length, p.embedded_length),
+                    ));
+                }
+                for (field, n, max) in [("elements", b.elements, 400), ("steps", b.steps, 1000)] {
+                    if let Some(n) = n {
+                        if n == 0 || n > max {
+                            return Err(spec_error(format!("pull_out.box.{field}"), format!("{n}: from 1 to {max}")));
+                        }
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    let title = file.title.clone().unwrap_or_else(|| {
+        path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "calibration".into())
+    });
+    let data = path.parent().unwrap_or(Path::new(".")).join(&file.data);
+    Ok(CalibrationSpec {
+        path: path.into(),
+        title,
+        test: file.test,
+        data,
+        law,
+        initial,
+        fixed,
+        pull_out: file.pull_out,
+    })
+}
