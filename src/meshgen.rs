@@ -327,3 +327,67 @@ impl PullOutBox {
 pub fn support(set: &str, fix: &[Direction]) -> Support {
     Support { node: None, nodes: None, set: Some(set.into()), fix: fix.to_vec() }
 }
+
+/// A direct-shear box as closed-forms.md §4's Coulomb block: a 1 m × 0.5 m weightless quad4 block (4 × 2 elements,
+/// E = 10 MPa, ν = 0.3) on a rigid base from x = −0.5 to 1.5 m (its nodes fixed, the block's base the
+/// slave line of interface `base` with `law`); stage "surcharge" applies `q` on top with every
+/// block node held in x, stage "shear" moves every block node `d` in x by `load_factors`. The node
+/// set `block` holds the block's nodes.
+pub fn block_on_rigid_base(law: ShearLawSpec, q: f64, d: f64, load_factors: Vec<f64>) -> ModelFile {
+    let block = Block::new(SolidKind::Quad4, (0.0, 0.0), (1.0, 0.5), (4, 2), "soil", 1, 1);
+    let mut nodes = block.nodes.clone();
+    // the base runs from x = −0.5 to 1.5, so that the block stays on it as it slides
+    let base: Vec<u64> = (0..=8).map(|i| 100 + i as u64).collect();
+    for (i, id) in base.iter().enumerate() {
+        nodes.push(NodeRow(*id, -0.5 + 0.25 * i as f64, 0.0));
+    }
+    let mut node_sets = BTreeMap::new();
+    node_sets.insert("block".into(), block.nodes.iter().map(|n| n.0).collect());
+    node_sets.insert("base".into(), base.clone());
+    let mut edge_sets = BTreeMap::new();
+    edge_sets.insert("top".into(), block.row_edges(2));
+    let mut soil = BTreeMap::new();
+    soil.insert("soil".into(), SoilMaterial::linear_elastic(1.0e4, 0.3, 0.0));
+    let on_block =
+        |ux: f64| PrescribedDisplacement { node: None, nodes: None, set: Some("block".into()), ux: Some(ux), uy: None };
+    ModelFile {
+        title: "Coulomb block".into(),
+        units: Units { length: LengthUnit::Metre, force: ForceUnit::Kilonewton },
+        materials: Materials { soil, reinforcement: BTreeMap::new() },
+        nodes,
+        elements: block.elements.clone(),
+        bars: Vec::new(),
+        node_sets,
+        edge_sets,
+        element_sets: BTreeMap::new(),
+        supports: vec![support("base", &[Direction::X, Direction::Y])],
+        interfaces: vec![InterfaceSpec {
+            name: "base".into(),
+            reinforcement: None,
+            slave: Some(block.row_nodes(0)),
+            master: Some(base),
+            master_normal: Some([0.0, -1.0]),
+            law,
+            lower_law: None,
+        }],
+        stages: vec![
+            Stage {
+                name: "surcharge".into(),
+                load_factors: vec![1.0],
+                loads: vec![LoadSpec::EdgeTraction { name: None, edge_set: "top".into(), pressure: q, shear: 0.0 }],
+                prescribed: vec![on_block(0.0)],
+                ..Default::default()
+            },
+            Stage {
+                name: "shear".into(),
+                load_factors,
+                loads: Vec::new(),
+                prescribed: vec![on_block(d)],
+                ..Default::default()
+            },
+        ],
+        analysis: AnalysisSettings::default(),
+        mesh: None,
+        series: None,
+    }
+}

@@ -69,6 +69,8 @@ pub struct StepRecord {
     pub load_factor: f64,
     /// The strength reduction factor F of a strength-reduction stage (strengths divided by F).
     pub strength_factor: Option<f64>,
+    /// A loading history's factor reverses at this step (cyclic loading).
+    pub reversal: bool,
     pub iterations: usize,
     /// How many times this increment was cut back before it converged.
     pub cutbacks: usize,

@@ -46,6 +46,8 @@ pub struct Increment {
     pub strength_factor: Option<f64>,
     pub cutbacks: usize,
     pub started: Instant,
+    /// A loading history's factor reverses at this step.
+    pub reversal: bool,
 }
 
 /// Set a stage up: the soil it places and removes, its water table and K0 stresses, the contacts
@@ -120,12 +122,16 @@ pub fn increments(
     let mut targets: Vec<f64> = plan.load_factors.clone();
     let mut reached = 0.0;
     let mut step = 0;
+    let mut planned = 0;
     let mut cutbacks = 0;
     while let Some(&target) = targets.first() {
         let started = Instant::now();
         let snapshot = state.clone();
+        // the out-of-balance force left by the stage before goes in with the factor, or, for a
+        // history (whose factor may go back or change sign), in the first step
+        let ramp = if plan.cyclic { 1.0 } else { target };
         for (k, f) in state.f_ext.iter_mut().enumerate() {
-            *f = stage.f_ext_start[k] + target * stage.force[k] - (1.0 - target) * stage.unbalance[k];
+            *f = stage.f_ext_start[k] + target * stage.force[k] - (1.0 - ramp) * stage.unbalance[k];
         }
         for &(n, d, value) in &plan.prescribed {
             state.u[dof(n, d)] = u_start[dof(n, d)] + target * value;
@@ -143,11 +149,17 @@ pub fn increments(
             }
         };
         step += 1;
-        let at = Increment { step, load_factor: target, strength_factor: None, cutbacks, started };
+        // a step of the plan (not a cutback's midpoint): count it, and whether the history reverses
+        let planned_step = plan.load_factors.get(planned) == Some(&target);
+        if planned_step {
+            planned += 1;
+        }
+        let reversal = planned_step && plan.reversals.contains(&planned);
+        let at = Increment { step, load_factor: target, strength_factor: None, cutbacks, started, reversal };
         complete_increment(cx, stage, state, report, &at, sink)?;
         targets.remove(0);
         reached = target;
-        if plan.load_factors.iter().any(|&f| (f - target).abs() < 1e-15) {
+        if planned_step {
             cutbacks = 0;
         }
     }
@@ -237,6 +249,7 @@ pub fn complete_increment(
         step: at.step,
         load_factor: at.load_factor,
         strength_factor: at.strength_factor,
+        reversal: at.reversal,
         iterations: report.iterations,
         cutbacks: at.cutbacks,
         force_residual: report.force_residual,

@@ -56,7 +56,14 @@ pub fn search(
                 trials.push((factor, true));
                 safe = factor;
                 step += 1;
-                let at = Increment { step, load_factor: 1.0, strength_factor: Some(factor), cutbacks: 0, started };
+                let at = Increment {
+                    step,
+                    load_factor: 1.0,
+                    strength_factor: Some(factor),
+                    cutbacks: 0,
+                    started,
+                    reversal: false,
+                };
                 complete_increment(cx, stage, state, report, &at, sink)?;
             }
             Err(e) => {

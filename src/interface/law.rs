@@ -6,8 +6,16 @@
 //! - `Coulomb`: elastic–perfectly plastic, τ = Ks·(s − s_p) with |τ| ≤ τp = c + σn·tan φ;
 //! - `PeakResidual`: as Coulomb until the peak is passed, then |τ| ≤ τr = c_r + σn·tan φ_r;
 //! - `Softening`: the strength falls linearly from τp to τr over a plastic slip `softening_slip`;
-//! - `Hyperbolic`: τ = Ks·e/(1 + Ks·|e|/τp) on the elastic slip e = s − s_p (nonlinear elastic,
-//!   initial slope Ks, asymptote τp).
+//! - `Hyperbolic`: the backbone τ = F(s) = Ks·s/(1 + Ks·|s|/τp) (initial slope Ks, asymptote τp),
+//!   with Masing's rules on unloading and reloading: from the last reversal (s_r, τ_r) the curve is
+//!   τ = τ_r + 2·F((s − s_r)/2) (the backbone at twice its scale); a curve that reaches the point
+//!   where an earlier, enclosing curve was left continues on that curve, and the first curve joins
+//!   the backbone at the mirror image of its reversal point (Masing 1926, with the extended rules of
+//!   Pyke 1979 and Vucetic 1990: the memory of the open loops).
+//!
+//! Every other law unloads elastically with Ks from its current state and slides again at its
+//! strength in the reversed direction; the plastic slip accumulated in either direction drives the
+//! softening.
 //!
 //! σn = λ/ℓ is compression positive; a tensile σn gives the cohesion only (never a negative
 //! strength).
@@ -61,6 +69,11 @@ pub struct ShearState {
     pub post_peak: bool,
     /// Shear stress τ at the end of the last converged increment.
     pub tau: f64,
+    /// The sign of the last change of slip (0 before any): a change against it is a reversal.
+    pub direction: f64,
+    /// The hyperbolic law's reversal points (s_r, τ_r) whose curves are still open, the outermost
+    /// first (empty on the backbone): the current curve starts at the last.
+    pub reversals: Vec<(f64, f64)>,
 }
 
 /// The law evaluated at a trial slip.
@@ -183,20 +196,41 @@ impl ShearLaw {
                 state.tau = ks * slip;
                 ShearResponse { tau: state.tau, tangent: ks, d_tau_d_sigma: 0.0, state, sliding: false }
             }
-            ShearLaw::Hyperbolic { .. } => {
+            ShearLaw::Hyperbolic { tan_friction, .. } => {
                 let tf = self.peak_strength(sigma_n).max(f64::MIN_POSITIVE);
-                let d = 1.0 + ks * elastic.abs() / tf;
-                state.tau = ks * elastic / d;
-                // τ = Ks·e·τf/(τf + Ks|e|): ∂τ/∂τf = Ks·e·Ks|e|/(τf + Ks|e|)², τf = c + σn·tan φ
-                let tan_phi = match self {
-                    ShearLaw::Hyperbolic { tan_friction, .. } if sigma_n > 0.0 => *tan_friction,
-                    _ => 0.0,
+                let tan_phi = if sigma_n > 0.0 { *tan_friction } else { 0.0 };
+                let change = slip - committed.slip;
+                let direction = if change == 0.0 { committed.direction } else { change.signum() };
+                state.direction = direction;
+                // against the last change of slip, the committed state is a reversal point
+                if committed.direction != 0.0 && direction == -committed.direction {
+                    state.reversals.push((committed.slip, committed.tau));
+                }
+                // curves closed by this slip: past the reversal point where the enclosing curve was
+                // left, the current curve joins that one (it passes through the point, by Masing's
+                // rule); past the mirror image (−s_r) of the first reversal, the backbone
+                loop {
+                    let n = state.reversals.len();
+                    let closes_at = match n {
+                        0 => break,
+                        1 => -state.reversals[0].0,
+                        _ => state.reversals[n - 2].0,
+                    };
+                    if direction * (slip - closes_at) > 0.0 {
+                        state.reversals.truncate(n.saturating_sub(2));
+                    } else {
+                        break;
+                    }
+                }
+                let r = match state.reversals.last() {
+                    None => hyperbola(ks, tf, tan_phi, slip, 1.0),
+                    Some(&(s_r, tau_r)) => {
+                        let (t, slope, coupling) = hyperbola(ks, tf, tan_phi, slip - s_r, 2.0);
+                        (tau_r + t, slope, coupling)
+                    }
                 };
-                // as two factors of magnitude at most 1, so that e = 0 at τf = 0 (no adhesion, no
-                // normal stress) gives 0, not 0/0
-                let (ke, span) = (ks * elastic, tf + ks * elastic.abs());
-                let d_tau_d_sigma = tan_phi * (ke / span) * (ke.abs() / span);
-                ShearResponse { tau: state.tau, tangent: ks / (d * d), d_tau_d_sigma, state, sliding: false }
+                state.tau = r.0;
+                ShearResponse { tau: r.0, tangent: r.1, d_tau_d_sigma: r.2, state, sliding: false }
             }
             _ => {
                 let trial = ks * elastic;
@@ -267,6 +301,16 @@ impl ShearLaw {
             _ => self.peak_strength(sigma_n),
         }
     }
+}
+
+/// The hyperbola at `scale` times the backbone's size, τ = scale·F(x/scale) = Ks·x/(1 + Ks·|x|/(scale·τf)),
+/// with its slope and its derivative with respect to σn (τf = c + σn·tan φ): (τ, dτ/dx, ∂τ/∂σn).
+fn hyperbola(ks: f64, tf: f64, tan_phi: f64, x: f64, scale: f64) -> (f64, f64, f64) {
+    let d = 1.0 + ks * x.abs() / (scale * tf);
+    // ∂τ/∂τf = scale·(Ks·x/span)·(Ks·|x|/span), span = scale·τf + Ks·|x|: as two factors of
+    // magnitude at most 1, so that x = 0 at τf = 0 (no adhesion, no normal stress) gives 0, not 0/0
+    let (ke, span) = (ks * x, scale * tf + ks * x.abs());
+    (ks * x / d, ks / (d * d), tan_phi * scale * (ke / span) * (ke.abs() / span))
 }
 
 #[cfg(test)]

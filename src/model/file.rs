@@ -486,6 +486,17 @@ pub struct Stage {
     /// Cumulative fractions of this stage's additions, increasing, ending at 1.0. Default `[1.0]`.
     #[serde(default = "default_load_factors")]
     pub load_factors: Vec<f64>,
+    /// Instead of `load_factors`: a loading history, rows of (time, factor). The factor multiplies
+    /// this stage's loads and prescribed displacements from the stage's start (factor 0) and may
+    /// rise, fall and change sign (cyclic loading); the times increase and only order the rows (the
+    /// analysis is rate-independent). Every row is a step, and every reversal of the factor is an
+    /// event of the outputs. The loads and displacements stay at the last row's factor.
+    #[serde(default)]
+    pub history: Option<Vec<[f64; 2]>>,
+    /// With `history`: the largest change of the factor in one step; each segment between rows is
+    /// divided into equal steps no larger than it (default: one step per row).
+    #[serde(default)]
+    pub history_increment: Option<f64>,
     #[serde(default)]
     pub loads: Vec<LoadSpec>,
     /// Displacements added in this stage; the DOFs stay held at the reached value afterwards.
@@ -581,6 +592,8 @@ impl Default for Stage {
         Stage {
             name: String::new(),
             load_factors: default_load_factors(),
+            history: None,
+            history_increment: None,
             loads: Vec::new(),
             prescribed: Vec::new(),
             activate: Vec::new(),

@@ -112,8 +112,14 @@ pub enum Load {
 #[derive(Debug, Clone, Default)]
 pub struct StagePlan {
     pub name: String,
-    /// Cumulative fractions of this stage's additions, increasing, ending at 1.
+    /// The factors of this stage's additions at its steps: cumulative fractions, increasing, ending
+    /// at 1; or, from a `history`, any sequence (cyclic loading).
     pub load_factors: Vec<f64>,
+    /// The steps (1-based, among `load_factors`) where a history's factor reverses.
+    pub reversals: Vec<usize>,
+    /// The factors come from a `history`: the stage's out-of-balance force is applied in its first
+    /// step (it is not ramped by a factor that may go back or change sign).
+    pub cyclic: bool,
     pub loads: Vec<Load>,
     /// (node, direction, displacement added over this stage).
     pub prescribed: Vec<(NodeIndex, Direction, f64)>,

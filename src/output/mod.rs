@@ -732,6 +732,10 @@ impl StepSink for ResultWriter {
         let ends_stage = record.strength_factor.is_none()
             && self.stage_ends.get(record.stage_index).copied().flatten() == Some(record.load_factor);
         let mut event = record.step == 1 || ends_stage;
+        if record.reversal {
+            event = true;
+            self.summary.events.push(format!("{when}: the loading history reverses"));
+        }
         if !self.slip_started && record.sliding_points > 0 {
             self.slip_started = true;
             event = true;
@@ -880,16 +884,25 @@ impl ResultWriter {
         let mut panels = Vec::new();
         for t in &self.targets {
             let dir = if t.direction == Direction::X { "x" } else { "y" };
-            let points: Vec<(f64, f64)> = self
+            let signed: Vec<(f64, f64)> = self
                 .history
                 .iter()
                 .filter(|h| h[3] == t.label && h[4] == dir)
-                .filter_map(|h| Some((h[5].parse::<f64>().ok()?.abs(), h[6].parse::<f64>().ok()?.abs())))
+                .filter_map(|h| Some((h[5].parse::<f64>().ok()?, h[6].parse::<f64>().ok()?)))
                 .collect();
+            // a monotonic pull is drawn as magnitudes; a displacement that changes sign (cyclic
+            // loading) is drawn with its signs, so that the loops show
+            let largest = signed.iter().fold(0.0f64, |a, p| a.max(p.0.abs()));
+            let both_ways = signed.iter().any(|p| p.0 > 1e-9 * largest) && signed.iter().any(|p| p.0 < -1e-9 * largest);
+            let (points, bars) = if both_ways {
+                (signed, ("", ""))
+            } else {
+                (signed.into_iter().map(|(x, y)| (x.abs(), y.abs())).collect(), ("|", "|"))
+            };
             panels.push(plots::Panel {
                 title: format!("{} ({dir}): force against displacement", t.label),
-                x_label: format!("|displacement| [{}]", u.length),
-                y_label: format!("|reaction| [{}]", u.force_per_width),
+                x_label: format!("{}displacement{} [{}]", bars.0, bars.1, u.length),
+                y_label: format!("{}reaction{} [{}]", bars.0, bars.1, u.force_per_width),
                 series: vec![(String::new(), points)],
                 markers_only: Vec::new(),
             });

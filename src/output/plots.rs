@@ -86,11 +86,20 @@ fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, panel: &Panel) 
         .axis_desc_style(("sans-serif", 15))
         .draw()
         .map_err(|e| e.to_string())?;
-    for (k, (label, points)) in panel.series.iter().enumerate() {
+    // a curve drawn right after a series of measured points takes their colour (the points and
+    // the curve fitted or computed for them)
+    let mut k = 0;
+    let mut after_markers = false;
+    for (i, (label, points)) in panel.series.iter().enumerate() {
+        let markers = panel.markers_only.contains(label);
+        if i > 0 && !(after_markers && !markers) {
+            k += 1;
+        }
+        after_markers = markers;
         let colour = COLOURS[k % COLOURS.len()];
-        if panel.markers_only.contains(label) {
+        if markers {
             chart
-                .draw_series(points.iter().map(|&p| Circle::new(p, 5, colour.filled())))
+                .draw_series(points.iter().map(|&p| Circle::new(p, 3, colour.filled())))
                 .map_err(|e| e.to_string())?
                 .label(label.as_str())
                 .legend(move |(x, y)| Circle::new((x + 9, y), 5, colour.filled()));

@@ -112,5 +112,7 @@ pub const MAX_CUTBACKS: usize = 30;
 pub const MAX_RESERVED_SEGMENTS: usize = 1_000;
 /// The most load factors of one stage.
 pub const MAX_LOAD_FACTORS: usize = 10_000;
+/// The largest factor a loading history may reach (of the stage's loads and displacements).
+pub const MAX_HISTORY_FACTOR: f64 = 1e6;
 /// The most runs of a series.
 pub const MAX_SERIES_VALUES: usize = 1_000;

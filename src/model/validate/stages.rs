@@ -33,8 +33,14 @@ pub(super) fn stages(d: &mut Draft, file: &ModelFile, p: &mut Problems) {
         if !stage_names.insert(s.name.clone()) {
             p.push(format!("{field}.name"), entity, "duplicate stage name");
         }
-        let lf = &s.load_factors;
-        if lf.len() > super::MAX_LOAD_FACTORS {
+        let from_history = s.history.as_ref().map(|h| history(h, s, &at, p));
+        let (lf, reversals) = match &from_history {
+            Some(Some((factors, reversals))) => (factors, reversals.clone()),
+            _ => (&s.load_factors, Vec::new()),
+        };
+        if from_history.is_some() {
+            // checked with the history
+        } else if lf.len() > super::MAX_LOAD_FACTORS {
             p.push(
                 format!("{field}.load_factors"),
                 entity,
@@ -75,6 +81,8 @@ pub(super) fn stages(d: &mut Draft, file: &ModelFile, p: &mut Problems) {
             name: s.name.clone(),
             strength_reduction,
             load_factors: lf.clone(),
+            reversals,
+            cyclic: from_history.is_some(),
             loads,
             prescribed,
             activate,
@@ -260,4 +268,74 @@ fn strength_reduction(r: &StrengthReductionSpec, s: &Stage, k: usize, at: &At, p
         p.push(&rfield, entity, "a strength-reduction stage needs a stage before it that loads the model");
     }
     StrengthReduction { soil: r.reduce == ReducedStrengths::SoilAndInterfaces, tolerance, max_factor }
+}
+
+/// The steps of a `history` table: the factor at each step, and the steps where it reverses; `None`
+/// (with the problems pushed) when the table is not sound.
+fn history(rows: &[[f64; 2]], s: &Stage, at: &At, p: &mut Problems) -> Option<(Vec<f64>, Vec<usize>)> {
+    let At { field, entity } = at;
+    let before = p.len();
+    if s.load_factors != [1.0] {
+        p.push(format!("{field}.history"), entity, "give load_factors or history, not both");
+    }
+    if s.strength_reduction.is_some() {
+        p.push(format!("{field}.history"), entity, "a strength-reduction stage takes no loading history");
+    }
+    if rows.is_empty() {
+        p.push(format!("{field}.history"), entity, "the table has no rows");
+    }
+    for (k, [t, f]) in rows.iter().enumerate() {
+        if !t.is_finite() || !f.is_finite() || f.abs() > super::MAX_HISTORY_FACTOR {
+            p.push(
+                format!("{field}.history[{k}]"),
+                entity,
+                format!("time and factor must be finite numbers, the factor within ±{:e}", super::MAX_HISTORY_FACTOR),
+            );
+        } else if k > 0 && !(*t > rows[k - 1][0]) {
+            p.push(
+                format!("{field}.history[{k}]"),
+                entity,
+                format!("the times must increase: {t} after {}", rows[k - 1][0]),
+            );
+        }
+    }
+    let increment = s.history_increment;
+    if let Some(inc) = increment {
+        if !(inc > 0.0 && inc.is_finite()) {
+            p.push(format!("{field}.history_increment"), entity, format!("{inc} is not a positive number"));
+        }
+    }
+    if p.len() > before {
+        return None;
+    }
+    // each segment from the stage's start (factor 0) through the rows, in equal steps no larger
+    // than the increment; counted before anything is allocated
+    let mut factors: Vec<f64> = std::iter::once(0.0).chain(rows.iter().map(|r| r[1])).collect();
+    factors.dedup();
+    let pieces = |a: f64, b: f64| increment.map_or(1.0, |inc| ((b - a).abs() / inc).ceil().max(1.0));
+    let steps: f64 = factors.windows(2).map(|w| pieces(w[0], w[1])).sum();
+    if steps > super::MAX_LOAD_FACTORS as f64 {
+        p.push(
+            format!("{field}.history_increment"),
+            entity,
+            format!("the history makes {steps} steps; a stage has at most {}", super::MAX_LOAD_FACTORS),
+        );
+        return None;
+    }
+    if steps < 1.0 {
+        p.push(format!("{field}.history"), entity, "the factor never leaves 0: the stage has no step");
+        return None;
+    }
+    let mut out = Vec::with_capacity(steps as usize);
+    let mut reversals = Vec::new();
+    for (k, w) in factors.windows(2).enumerate() {
+        let n = pieces(w[0], w[1]) as usize;
+        out.extend((1..=n).map(|i| if i == n { w[1] } else { w[0] + (w[1] - w[0]) * i as f64 / n as f64 }));
+        if let Some(next) = factors.get(k + 2) {
+            if (w[1] - w[0]) * (next - w[1]) < 0.0 {
+                reversals.push(out.len());
+            }
+        }
+    }
+    Some((out, reversals))
 }
