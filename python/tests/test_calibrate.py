@@ -67,3 +67,21 @@ def test_one_normal_stress_raises_naming_cohesion_and_friction(tmp_path):
     with pytest.raises(geoslip.CalibrationError) as e:
         geoslip.calibrate(tmp_path / "fit.toml")
     assert "cohesion" in str(e.value) and "friction_angle" in str(e.value), str(e.value)
+
+
+def test_a_pull_out_curve_that_goes_back_is_refused(tmp_path):
+    (tmp_path / "po.csv").write_text(
+        "surcharge [kPa],displacement [mm],force [kN/m]\n" + "".join(
+            f"{q},{d},{f}\n" for q in (20, 40) for d, f in [(0, 0), (1, 5), (2, 8), (1.5, 6), (3, 9)]
+        )
+    )
+    spec = {"test": "pull-out", "data": "po.csv", "law": "coulomb",
+            "pull_out": {"embedded_length": 0.5, "axial_stiffness": 1000.0}}
+    cwd = os.getcwd()
+    os.chdir(tmp_path)
+    try:
+        with pytest.raises(geoslip.CalibrationError) as e:
+            geoslip.calibrate(spec)
+    finally:
+        os.chdir(cwd)
+    assert "the curve at 20 kPa goes back from 2 to 1.5 mm (its points 3 and 4)" in str(e.value), str(e.value)

@@ -112,6 +112,9 @@ pub fn calibrate(spec: &CalibrationSpec) -> Result<Calibration, CalibrationError
 /// normal stress for c and φ, no point past the peak for the residual), and
 /// [`CalibrationError::NotConverged`] or [`CalibrationError::Model`] when the fit fails.
 pub fn calibrate_curves(spec: &CalibrationSpec, curves: Vec<Curve>) -> Result<Calibration, CalibrationError> {
+    if spec.test == TestKind::PullOut {
+        monotonic_pull(spec, &curves)?;
+    }
     let law = spec.law;
     let largest_x = curves.iter().flat_map(|c| c.x.iter()).fold(0.0f64, |a, x| a.max(x.abs()));
     let (model, estimated) = match (spec.test, &spec.pull_out) {
@@ -221,6 +224,32 @@ pub fn calibrate_curves(spec: &CalibrationSpec, curves: Vec<Curve>) -> Result<Ca
             _ => None,
         },
     })
+}
+
+/// Both pull-out models pull the head one way (the closed form's progressive slip, the box's pull
+/// stage): a curve whose displacement goes back would be fitted as if it had not.
+fn monotonic_pull(spec: &CalibrationSpec, curves: &[Curve]) -> Result<(), CalibrationError> {
+    // metres in millimetres, rid of the round-off of the unit conversion
+    let mm = |x: f64| (x.abs() * 1e12).round() / 1e9;
+    for c in curves {
+        if let Some(k) = (1..c.x.len()).find(|&k| c.x[k].abs() < c.x[k - 1].abs()) {
+            return Err(CalibrationError::Data {
+                path: spec.data.clone(),
+                line: None,
+                column: Some("displacement".into()),
+                message: format!(
+                    "the curve at {} kPa goes back from {} to {} mm (its points {} and {}): a pull-out calibration \
+                     needs a monotonic pull, points in the order of the test",
+                    c.condition,
+                    mm(c.x[k - 1]),
+                    mm(c.x[k]),
+                    k,
+                    k + 1
+                ),
+            });
+        }
+    }
+    Ok(())
 }
 
 /// Say why, in the test's terms, when the reason is one the curves' conditions explain.
