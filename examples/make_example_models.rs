@@ -143,6 +143,8 @@ fn paper_block() -> ModelFile {
             master_normal: None,
             law: ShearLawSpec::Linear { shear_stiffness: 10.0 },
             lower_law: None,
+            dilation: None,
+            bearing: None,
         }],
         stages: vec![
             Stage {

@@ -284,6 +284,8 @@ impl PullOutBox {
                     master_normal: None,
                     law: self.law.clone(),
                     lower_law: None,
+                    dilation: None,
+                    bearing: None,
                 })
                 .collect(),
             stages: vec![
@@ -369,6 +371,8 @@ pub fn block_on_rigid_base(law: ShearLawSpec, q: f64, d: f64, load_factors: Vec<
             master_normal: Some([0.0, -1.0]),
             law,
             lower_law: None,
+            dilation: None,
+            bearing: None,
         }],
         stages: vec![
             Stage {

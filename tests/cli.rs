@@ -54,7 +54,7 @@ fn run_writes_every_result_file_with_units_in_the_headers() {
             ("displacements.csv", "node,x [m],y [m],ux [m],uy [m]"),
             ("reactions.csv", "node,rx [kN/m],ry [kN/m]"),
             ("bar_forces.csv", "bar,node_a,node_b,x_mid [m],y_mid [m],T [kN/m],state"),
-            ("interface.csv", "interface,face,slave_node,x [m],y [m],master_a,master_b,xi [-],state,tributary [m],lambda [kN/m],sigma_n [kPa],tau [kPa],slip [m],contact"),
+            ("interface.csv", "interface,face,slave_node,x [m],y [m],master_a,master_b,xi [-],state,tributary [m],lambda [kN/m],sigma_n [kPa],tau [kPa],bearing [kPa],dilation [m],slip [m],contact"),
             ("stresses.csv", "element,gauss_point,x [m],y [m],sxx [kPa],syy [kPa],sxy [kPa],szz [kPa],pore_pressure [kPa],yield,plastic_strain"),
         ];
         for (file, header) in headers {

@@ -77,6 +77,8 @@ fn doubled_and_retied(pull: f64, steps: usize) -> ModelFile {
         master_normal: None,
         law,
         lower_law: None,
+        dilation: None,
+        bearing: None,
     };
     let (ks, phi) = match spec.law {
         ShearLawSpec::Coulomb { shear_stiffness, friction_angle, .. } => (shear_stiffness, friction_angle),

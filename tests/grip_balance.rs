@@ -62,6 +62,8 @@ fn gripped_strip() -> ModelFile {
             master_normal: Some([0.0, -1.0]),
             law: ShearLawSpec::Coulomb { shear_stiffness: 1000.0, cohesion: 0.0, friction_angle: 30.0 },
             lower_law: None,
+            dilation: None,
+            bearing: None,
         }],
         stages: vec![
             Stage {

@@ -161,8 +161,19 @@ fn check_step(file: &hdf5::File, model: &Model, time: usize, record: &StepRecord
 
     // interface: one vertex per point, at its slave node
     let faces = format!("{step}/interface");
-    let expected =
-        names(&["displacement", "face", "geometry", "lambda", "sigma_n", "slip", "state", "tau", "topology"]);
+    let expected = names(&[
+        "bearing",
+        "dilation",
+        "displacement",
+        "face",
+        "geometry",
+        "lambda",
+        "sigma_n",
+        "slip",
+        "state",
+        "tau",
+        "topology",
+    ]);
     assert_eq!(members(file, &faces), expected, "{faces}");
     let p = &r.interface_points;
     let x: Vec<f64> = p.iter().flat_map(|p| mesh.nodes[node_index[&p.slave_node]].x.into_iter().chain([0.0])).collect();
@@ -177,6 +188,8 @@ fn check_step(file: &hdf5::File, model: &Model, time: usize, record: &StepRecord
     assert_exactly(file, &format!("{faces}/lambda"), &p.iter().map(|p| p.lambda).collect::<Vec<_>>(), 1);
     assert_exactly(file, &format!("{faces}/sigma_n"), &p.iter().map(|p| p.sigma_n).collect::<Vec<_>>(), 1);
     assert_exactly(file, &format!("{faces}/tau"), &p.iter().map(|p| p.tau).collect::<Vec<_>>(), 1);
+    assert_exactly(file, &format!("{faces}/bearing"), &p.iter().map(|p| p.bearing).collect::<Vec<_>>(), 1);
+    assert_exactly(file, &format!("{faces}/dilation"), &p.iter().map(|p| p.dilation).collect::<Vec<_>>(), 1);
     assert_exactly(file, &format!("{faces}/slip"), &p.iter().map(|p| p.slip).collect::<Vec<_>>(), 1);
     // 0 stick, 1 slip, 2 open, 3 residual (docs/results.md)
     let state: Vec<i32> = p

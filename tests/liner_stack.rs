@@ -86,6 +86,8 @@ fn stack_in_shear() -> ModelFile {
             master_normal: None,
             law: coulomb(33.0),
             lower_law: Some(ShearLawSpec::Coulomb { shear_stiffness: 2.0e4, cohesion: 5.0, friction_angle: 28.0 }),
+            dilation: None,
+            bearing: None,
         }],
         stages: vec![
             Stage {

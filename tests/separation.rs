@@ -52,6 +52,8 @@ fn lifted_block() -> ModelFile {
             master_normal: Some([0.0, -1.0]),
             law: ShearLawSpec::Coulomb { shear_stiffness: 5000.0, cohesion: 2.0, friction_angle: 30.0 },
             lower_law: None,
+            dilation: None,
+            bearing: None,
         }],
         stages: vec![
             Stage {

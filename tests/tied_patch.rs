@@ -67,6 +67,8 @@ fn stacked_blocks(kind: SolidKind, nx: usize) -> ModelFile {
             master_normal: None,
             law: ShearLawSpec::Tie,
             lower_law: None,
+            dilation: None,
+            bearing: None,
         }],
         stages: vec![Stage {
             name: "compress".into(),

@@ -135,6 +135,8 @@ fn lined_slope(
         master_normal: Some([-up_normal[0], -up_normal[1]]),
         law: coulomb(phi_i),
         lower_law: None,
+        dilation: None,
+        bearing: None,
     }];
     if toe {
         interfaces.push(InterfaceSpec {
@@ -146,6 +148,8 @@ fn lined_slope(
             // the cohesion of the two-wedge method's passive wedge base, C = c·h / sin β
             law: ShearLawSpec::Coulomb { shear_stiffness: 5.0e4, cohesion: COVER_COHESION, friction_angle: phi_soil },
             lower_law: None,
+            dilation: None,
+            bearing: None,
         });
     }
     let mut file = common::soil_model(
@@ -207,6 +211,8 @@ fn lined_slope_with_pull(beta_deg: f64, length: f64, phi_i: f64, phi_soil: f64, 
         master_normal: None,
         law: ShearLawSpec::Tie,
         lower_law: None,
+        dilation: None,
+        bearing: None,
     });
     let beta = beta_deg.to_radians();
     file.stages[0].loads.push(LoadSpec::Point {

@@ -155,10 +155,13 @@ fn vtk_reads_back_every_step_and_the_fields_match_the_csv_files() {
         let pd = &interface["point_data"];
         let (sn, tau, slip, state) =
             (tuples(&pd["sigma_n"]), tuples(&pd["tau"]), tuples(&pd["slip"]), tuples(&pd["state"]));
+        let (bearing, dilation) = (tuples(&pd["bearing"]), tuples(&pd["dilation"]));
         assert_eq!(sn.len(), rows.len());
         for (i, row) in rows.iter().enumerate() {
             close(sn[i][0], f(row, "sigma_n"), "sigma_n");
             close(tau[i][0], f(row, "tau"), "tau");
+            close(bearing[i][0], f(row, "bearing"), "bearing");
+            close(dilation[i][0], f(row, "dilation"), "dilation");
             close(slip[i][0], f(row, "slip"), "slip");
             let open = !matches!(row["state"].as_str(), "active" | "redundant");
             assert_eq!(state[i][0] == 2.0, open, "state code at point {i}: {}", row["state"]);

@@ -154,6 +154,8 @@ def _read_step_csv(folder):
             "lambda": _np.array(_column(h, rows, "lambda")),
             "sigma_n": _np.array(_column(h, rows, "sigma_n")),
             "tau": _np.array(_column(h, rows, "tau")),
+            "bearing": _np.array(_column(h, rows, "bearing")),
+            "dilation": _np.array(_column(h, rows, "dilation")),
             "slip": _np.array(_column(h, rows, "slip")),
         }
     path = _os.path.join(folder, "bar_forces.csv")

@@ -293,6 +293,8 @@ fn results(
         interface.set_item("lambda", array(py, p.iter().map(|p| p.lambda).collect()))?;
         interface.set_item("sigma_n", array(py, p.iter().map(|p| p.sigma_n).collect()))?;
         interface.set_item("tau", array(py, p.iter().map(|p| p.tau).collect()))?;
+        interface.set_item("bearing", array(py, p.iter().map(|p| p.bearing).collect()))?;
+        interface.set_item("dilation", array(py, p.iter().map(|p| p.dilation).collect()))?;
         interface.set_item("slip", array(py, p.iter().map(|p| p.slip).collect()))?;
         interface.set_item("sliding", PyList::new(py, p.iter().map(|p| p.sliding))?)?;
         step.set_item("interface", interface)?;

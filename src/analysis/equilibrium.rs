@@ -169,8 +169,9 @@ fn linearise(
     let held =
         cx.active_set(dofs, &state.placed).hold_free_reinforcement_nodes(&mut state.interfaces, &mut state.lambda);
     it.state_changes.extend(held);
-    let rows = InterfaceRows::new(&cx.model.mesh, &state.interfaces, &dofs.multipliers);
+    let mut rows = InterfaceRows::new(&cx.model.mesh, &state.interfaces, &dofs.multipliers);
     let springs = springs::evaluate(cx.model, state, &rows);
+    rows.dilate(springs.iter().map(|r| r.dilation));
     // The first iteration of an increment predicts with the elastic soil stiffness: prescribed
     // displacements strain only the elements next to them at first, and their tangent would say
     // nothing about the rest.
@@ -198,7 +199,7 @@ fn linearise(
                 if !in_contact {
                     return 0.0;
                 }
-                let ks = state.interfaces[s.interface].faces[s.face].law.shear_stiffness().unwrap_or(0.0);
+                let ks = r.elastic_stiffness;
                 let k = match scheme {
                     Scheme::ConstantStiffness => ks,
                     Scheme::Newton | Scheme::NewtonSymmetric if it.fallbacks.elastic_springs => ks,
@@ -491,8 +492,9 @@ fn check(
 ) -> Result<Option<IncrementReport>, IncrementError> {
     let t = Instant::now();
     clip(cx, state);
-    let rows = InterfaceRows::new(&cx.model.mesh, &state.interfaces, &dofs.multipliers);
+    let mut rows = InterfaceRows::new(&cx.model.mesh, &state.interfaces, &dofs.multipliers);
     let springs = springs::evaluate(cx.model, state, &rows);
+    rows.dilate(springs.iter().map(|r| r.dilation));
     let characteristic = cx.characteristic;
     let force_floor = state
         .f_ext

@@ -47,6 +47,10 @@ pub struct InterfacePointResult {
     pub sigma_n: f64,
     /// Shear stress resisting positive slip.
     pub tau: f64,
+    /// The passive bearing's part of `tau` (a geogrid's transverse members; zero without).
+    pub bearing: f64,
+    /// The face's opening by dilatancy (zero on a face that does not dilate) [length].
+    pub dilation: f64,
     /// Slip along the slave line towards its first node (the pull-out direction), accumulated.
     pub slip: f64,
     /// The peak strength has been passed.
@@ -137,18 +141,18 @@ impl StepResults {
                     let lambda = state.lambda[k];
                     k += 1;
                     let lambda_stress = if point.tributary > 0.0 { lambda / point.tributary } else { 0.0 };
-                    let (tau, sliding, sigma_n) = match &face.law {
+                    let (tau, sliding, sigma_n, bearing, dilation) = match &face.law {
                         ShearLaw::Tie => {
                             let lt = state.lambda[k];
                             k += 1;
-                            (lt / point.tributary.max(f64::MIN_POSITIVE), false, lambda_stress)
+                            (lt / point.tributary.max(f64::MIN_POSITIVE), false, lambda_stress, 0.0, 0.0)
                         }
                         _ => {
                             spring += 1;
                             match springs.get(spring - 1) {
-                                Some(r) if point.in_contact() => (r.tau, r.sliding, r.sigma_n),
-                                Some(r) => (r.tau, r.sliding, lambda_stress),
-                                None => (0.0, false, lambda_stress),
+                                Some(r) if point.in_contact() => (r.tau, r.sliding, r.sigma_n, r.bearing, r.dilation),
+                                Some(r) => (r.tau, r.sliding, lambda_stress, r.bearing, r.dilation),
+                                None => (0.0, false, lambda_stress, 0.0, 0.0),
                             }
                         }
                     };
@@ -172,6 +176,8 @@ impl StepResults {
                         lambda,
                         sigma_n,
                         tau,
+                        bearing,
+                        dilation,
                         slip,
                         post_peak: point.shear.post_peak,
                         sliding,
@@ -203,6 +209,10 @@ pub struct ReinforcementBalance {
     pub applied: [f64; 2],
     /// Carried by its interface faces (x, y).
     pub interface_force: [f64; 2],
+    /// The part of `interface_force` that its transverse members' passive bearing carries (x, y),
+    /// when its faces have any; the rest is friction and the normal forces.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub bearing_force: Option<[f64; 2]>,
     /// |applied − interface_force| relative to |applied| (or absolute when nothing is applied).
     pub mismatch: f64,
 }
@@ -230,6 +240,8 @@ pub fn reinforcement_balance(model: &Model, results: &StepResults, state: &State
         slaves.sort_unstable();
         slaves.dedup();
         let mut carried = [0.0; 2];
+        let mut bearing_carried = [0.0; 2];
+        let has_bearing = interface.faces.iter().any(|f| f.bearing.is_some());
         for face in &interface.faces {
             // a face between two layers of a stack: its master is another layer of this reinforcement
             let between_layers = face.master.iter().all(|n| slaves.binary_search(n).is_ok());
@@ -239,12 +251,12 @@ pub fn reinforcement_balance(model: &Model, results: &StepResults, state: &State
                 let lambda = state.lambda[k];
                 k += 1;
                 let t = point.tangent;
-                let shear_force = if interface.is_tie() {
+                let (shear_force, bearing_force) = if interface.is_tie() {
                     let lt = state.lambda[k];
                     k += 1;
-                    lt
+                    (lt, 0.0)
                 } else {
-                    let tau = results
+                    let (tau, bearing) = results
                         .interface_points
                         .iter()
                         .find(|r| {
@@ -252,15 +264,17 @@ pub fn reinforcement_balance(model: &Model, results: &StepResults, state: &State
                                 && r.face == face.label
                                 && r.slave_node == model.mesh.node_id(point.slave)
                         })
-                        .map(|r| r.tau)
-                        .unwrap_or(0.0);
-                    tau * point.tributary * face.sides()
+                        .map_or((0.0, 0.0), |r| (r.tau, r.bearing));
+                    let area = point.tributary * face.sides();
+                    (tau * area, bearing * area)
                 };
                 // the soil resists positive slip: force −τℓ·t on the slave (between two layers of a
                 // stack the same force, reversed, acts on the layer beneath: nothing on the stack)
                 if !between_layers {
                     carried[0] -= lambda * n[0] + shear_force * t[0];
                     carried[1] -= lambda * n[1] + shear_force * t[1];
+                    bearing_carried[0] -= bearing_force * t[0];
+                    bearing_carried[1] -= bearing_force * t[1];
                 }
             }
         }
@@ -282,6 +296,7 @@ pub fn reinforcement_balance(model: &Model, results: &StepResults, state: &State
             interface: interface.name.clone(),
             applied,
             interface_force: [-carried[0], -carried[1]],
+            bearing_force: has_bearing.then_some([-bearing_carried[0], -bearing_carried[1]]),
             mismatch: if size > 0.0 { diff / size } else { diff },
         });
     }

@@ -20,6 +20,13 @@ pub struct SpringResult {
     /// law itself takes it less the pore pressure.
     pub sigma_n: f64,
     pub sliding: bool,
+    /// The passive bearing's part of `tau` (zero on a face without one).
+    pub bearing: f64,
+    /// The face's opening by dilatancy at this slip (zero on a face that does not dilate).
+    pub dilation: f64,
+    /// The slope of the point's law from its current state while elastic: Ks, plus the bearing's
+    /// τb,max/δb (the constant-stiffness scheme's spring).
+    pub elastic_stiffness: f64,
 }
 
 /// σn = λ/ℓ of a spring's point (compression positive); a redundant row's force is carried by
@@ -84,16 +91,33 @@ pub fn evaluate(model: &Model, state: &State, rows: &InterfaceRows) -> Vec<Sprin
                 }
                 None => sigma_n,
             };
+            let face = &interface.faces[s.face];
+            let mut elastic_stiffness = face.law.shear_stiffness().unwrap_or(0.0);
             let response = if p.in_contact() {
-                interface.faces[s.face].law.response(&p.shear, slip, effective)
+                let mut response = face.law.response(&p.shear, slip, effective);
+                response.state.bearing_tau = 0.0;
+                if let Some(bearing) = &face.bearing {
+                    // the members bear on top of the face's friction, from the same slip
+                    let b = bearing.response(p.shear.bearing_slip, slip, effective);
+                    response.tau += b.tau;
+                    response.tangent += b.tangent;
+                    response.d_tau_d_sigma += b.d_tau_d_sigma;
+                    response.state.bearing_slip = b.plastic_slip;
+                    response.state.bearing_tau = b.tau;
+                    elastic_stiffness += bearing.stiffness(effective);
+                }
+                response
             } else {
                 // Out of contact: no shear; the slip goes on accumulating and restarts elastic.
                 let mut st = p.shear.clone();
                 st.slip = slip;
                 st.plastic_slip = slip;
+                st.bearing_slip = slip;
+                st.bearing_tau = 0.0;
                 st.tau = 0.0;
                 ShearResponse { tau: 0.0, tangent: 0.0, d_tau_d_sigma: 0.0, state: st, sliding: false }
             };
+            let dilation = face.dilation.map_or(0.0, |d| d.opening(response.state.plastic_path));
             SpringResult {
                 interface: s.interface,
                 face: s.face,
@@ -101,6 +125,9 @@ pub fn evaluate(model: &Model, state: &State, rows: &InterfaceRows) -> Vec<Sprin
                 tau: response.tau,
                 sliding: response.sliding,
                 sigma_n,
+                bearing: response.state.bearing_tau,
+                dilation,
+                elastic_stiffness,
                 response,
             }
         })

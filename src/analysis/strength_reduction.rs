@@ -13,7 +13,7 @@ use super::stage::{complete_increment, Increment, Stage};
 use super::state::State;
 use crate::element::bar::BarStates;
 use crate::error::Error;
-use crate::interface::ShearLaw;
+use crate::interface::{Bearing, ShearLaw};
 use crate::model::{Model, StrengthReduction};
 use std::time::Instant;
 
@@ -32,10 +32,14 @@ pub fn search(
     let model = cx.model;
     let face_laws: Vec<ShearLaw> =
         state.interfaces.iter().flat_map(|i| i.faces.iter().map(|f| f.law.clone())).collect();
+    // a geogrid's passive bearing is a strength too: divided by F with the laws' c and tan φ
+    let face_bearings: Vec<_> = state.interfaces.iter().flat_map(|i| i.faces.iter().map(|f| f.bearing)).collect();
     let soil_laws = cx.setup.laws.clone();
     let apply = |state: &mut State, setup: &mut SoilSetup, factor: f64| {
-        for (face, law) in state.interfaces.iter_mut().flat_map(|i| i.faces.iter_mut()).zip(&face_laws) {
+        let faces = state.interfaces.iter_mut().flat_map(|i| i.faces.iter_mut());
+        for ((face, law), bearing) in faces.zip(&face_laws).zip(&face_bearings) {
             face.law = law.reduced(factor);
+            face.bearing = bearing.map(|b| Bearing { coefficient: b.coefficient / factor, ..b });
         }
         if reduction.soil {
             setup.laws = soil_laws.iter().map(|l| l.map(|l| l.reduced(factor))).collect();

@@ -53,6 +53,8 @@ pub fn embed_reinforcement(
         fixed_normal: None,
         law,
         embedded: Some(Embedding { hosts }),
+        dilation: None,
+        bearing: None,
     };
     let record = SplitRecord {
         node_sets: vec![

@@ -74,6 +74,10 @@ pub struct ShearState {
     /// The hyperbolic law's reversal points (s_r, τ_r) whose curves are still open, the outermost
     /// first (empty on the backbone): the current curve starts at the last.
     pub reversals: Vec<(f64, f64)>,
+    /// The plastic slip of the face's passive bearing, when it has one ([`super::Bearing`]).
+    pub bearing_slip: f64,
+    /// The bearing part of `tau`.
+    pub bearing_tau: f64,
 }
 
 /// The law evaluated at a trial slip.

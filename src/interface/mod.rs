@@ -11,6 +11,7 @@
 //! row (it stays in the pattern with a unit diagonal), and re-associate the point as it slides.
 
 pub mod active_set;
+pub mod bearing;
 pub mod embed;
 pub mod law;
 pub mod pair;
@@ -19,6 +20,7 @@ pub mod rows;
 pub mod split;
 
 use crate::mesh::{Mesh, NodeIndex};
+pub use bearing::Bearing;
 pub use law::{ShearLaw, ShearResponse, ShearState};
 
 /// State of a point's normal constraint row.
@@ -116,6 +118,25 @@ pub struct ContactFace {
     /// A reinforcement embedded in continuous soil: the master path runs through the soil (soil on
     /// both sides), and the face stands for both of the reinforcement's faces.
     pub embedded: Option<Embedding>,
+    /// The face dilates as it slides (`None`: the tie holds the gap at zero).
+    pub dilation: Option<Dilation>,
+    /// The passive bearing of a geogrid's transverse members, added to the face's shear law.
+    pub bearing: Option<Bearing>,
+}
+
+/// Dilatancy of a face: its normal tie holds the faces apart by min(tan ψ·κ, max), κ the plastic
+/// slip accumulated in either direction (the gap g = n·(x_r − Σ Nᵢxᵢ) is held at −opening).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Dilation {
+    pub tan_angle: f64,
+    pub max: f64,
+}
+
+impl Dilation {
+    /// The opening after a plastic slip path κ.
+    pub fn opening(&self, plastic_path: f64) -> f64 {
+        (self.tan_angle * plastic_path.max(0.0)).min(self.max)
+    }
 }
 
 /// What an embedded reinforcement's face needs beyond a contact face's: its points are tied

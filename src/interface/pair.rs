@@ -115,6 +115,8 @@ pub fn pair(
         fixed_normal,
         law,
         embedded: None,
+        dilation: None,
+        bearing: None,
     };
     // Every slave node must sit on its master face.
     let tol = 1e-6 * mesh.characteristic_length();

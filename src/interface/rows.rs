@@ -90,6 +90,16 @@ impl InterfaceRows {
         InterfaceRows { constraint_rows, gap0, held_rows, springs }
     }
 
+    /// Hold each spring's normal row open by its face's dilation (one value per spring, in
+    /// `springs` order): the row's gap is then measured from −opening.
+    pub fn dilate(&mut self, openings: impl Iterator<Item = f64>) {
+        for (spring, opening) in self.springs.iter().zip(openings) {
+            if opening != 0.0 {
+                self.gap0[spring.normal_multiplier] += opening;
+            }
+        }
+    }
+
     /// Current gap of every row: g = gap0 + row · u.
     pub fn gaps(&self, u: &[f64]) -> Vec<f64> {
         self.constraint_rows

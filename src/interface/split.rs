@@ -152,6 +152,8 @@ pub fn split_reinforcement(
         fixed_normal: None,
         law: stack.upper.clone(),
         embedded: None,
+        dilation: None,
+        bearing: None,
     }];
     for (k, law) in stack.between.iter().enumerate() {
         // layer k + 1 on layer k: the normal points from it into layer k, on the lower side
@@ -163,6 +165,8 @@ pub fn split_reinforcement(
             fixed_normal: None,
             law: law.clone(),
             embedded: None,
+            dilation: None,
+            bearing: None,
         });
     }
     faces.push(ContactFace {
@@ -173,6 +177,8 @@ pub fn split_reinforcement(
         fixed_normal: None,
         law: stack.lower.clone(),
         embedded: None,
+        dilation: None,
+        bearing: None,
     });
     if split_count < path.len() {
         // the tail is a slit tip: the faces end at one soil node; the lower face's row there
@@ -206,6 +212,8 @@ pub fn split_reinforcement(
                 fixed_normal: None,
                 law: stack.upper.clone(),
                 embedded: None,
+                dilation: None,
+                bearing: None,
             }],
             slit_of: None, // set by the caller, which knows the reinforcement's index
         }

@@ -390,6 +390,66 @@ pub struct InterfaceSpec {
     /// from `law` (a geomembrane on a clay liner under a geotextile, say).
     #[serde(default)]
     pub lower_law: Option<ShearLawSpec>,
+    /// Dilatancy of the interface's faces against the soil: the faces move apart by tan ψ times
+    /// the plastic slip, up to a largest dilation (a dense sand that dilates as the reinforcement
+    /// slides).
+    #[serde(default)]
+    pub dilation: Option<DilationSpec>,
+    /// Passive bearing of a geogrid's transverse members, a resistance added to each face's shear
+    /// law and reported apart from friction. Only for a reinforcement.
+    #[serde(default)]
+    pub bearing: Option<BearingSpec>,
+}
+
+/// Dilatancy on the normal tie: u_n,reinforcement − u_n,soil = min(tan ψ·κ, `max_dilation`), κ the
+/// plastic slip accumulated in either direction.
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct DilationSpec {
+    /// Dilation angle ψ [degrees], 0 ≤ ψ < 45.
+    pub angle: f64,
+    /// Largest dilation, the opening at which the soil has reached its critical state [length].
+    pub max_dilation: f64,
+}
+
+/// Passive bearing of transverse members: members of thickness B every S along the reinforcement,
+/// a fraction αb of the width bearing, each bearing σb = (σb/σn)·σn′ mobilised linearly over a
+/// displacement. Per unit length of reinforcement the bearing force is (αb·B/S)·σb, half on each
+/// face.
+#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct BearingSpec {
+    /// Spacing S of the transverse members along the reinforcement [length].
+    pub member_spacing: f64,
+    /// Thickness B of a transverse member (its height facing the soil) [length].
+    pub member_thickness: f64,
+    /// Fraction αb of the reinforcement's width that bears (0 < αb ≤ 1). Default 1.
+    #[serde(default = "one")]
+    pub bearing_fraction: f64,
+    /// How σb/σn is found: `general-shear` or `punching-shear` (Jewell et al. 1984, from
+    /// `friction_angle`), or `ratio` (given directly).
+    pub formula: BearingFormula,
+    /// The soil's friction angle φ′ [degrees] for the `general-shear` and `punching-shear` formulas.
+    #[serde(default)]
+    pub friction_angle: Option<f64>,
+    /// σb/σn for the `ratio` formula.
+    #[serde(default)]
+    pub ratio: Option<f64>,
+    /// The relative displacement over which the bearing is mobilised linearly to its full value
+    /// [length].
+    pub mobilisation_displacement: f64,
+}
+
+/// The bearing-capacity formula of a transverse member.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "kebab-case")]
+pub enum BearingFormula {
+    /// Upper bound: σb/σn = exp((π/2 + φ)·tan φ)·tan²(π/4 + φ/2).
+    GeneralShear,
+    /// Lower bound: σb/σn = exp((π/2)·tan φ)·tan(π/4 + φ/2).
+    PunchingShear,
+    /// σb/σn given as `ratio` (from the user's own tests).
+    Ratio,
 }
 
 #[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]

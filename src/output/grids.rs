@@ -104,6 +104,10 @@ pub struct InterfaceGrid {
     pub lambda: Vec<f64>,
     pub sigma_n: Vec<f64>,
     pub tau: Vec<f64>,
+    /// The passive bearing's part of `tau`.
+    pub bearing: Vec<f64>,
+    /// The opening by dilatancy.
+    pub dilation: Vec<f64>,
     pub slip: Vec<f64>,
     /// [`interface_state_code`].
     pub state: Vec<i32>,
@@ -234,6 +238,8 @@ impl GridLayout {
             lambda: points.iter().map(|p| p.lambda).collect(),
             sigma_n: points.iter().map(|p| p.sigma_n).collect(),
             tau: points.iter().map(|p| p.tau).collect(),
+            bearing: points.iter().map(|p| p.bearing).collect(),
+            dilation: points.iter().map(|p| p.dilation).collect(),
             slip: points.iter().map(|p| p.slip).collect(),
             state: points.iter().map(|p| interface_state_code(p.state, p.sliding, p.post_peak)).collect(),
             face,

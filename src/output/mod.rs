@@ -648,6 +648,8 @@ impl ResultWriter {
                     format!("lambda [{f}]"),
                     format!("sigma_n [{s}]"),
                     format!("tau [{s}]"),
+                    format!("bearing [{s}]"),
+                    format!("dilation [{l}]"),
                     format!("slip [{l}]"),
                     "contact".into(),
                 ]),
@@ -666,6 +668,8 @@ impl ResultWriter {
                         num(p.lambda),
                         num(p.sigma_n),
                         num(p.tau),
+                        num(p.bearing),
+                        num(p.dilation),
                         num(p.slip),
                         grids::contact_name(grids::interface_state_code(p.state, p.sliding, p.post_peak)).to_string(),
                     ]

@@ -181,6 +181,14 @@ At F = {f:.4}: {why}."
                 "\nForce balance of `{}` at the last step: applied ({:.6e}, {:.6e}), carried by its interfaces ({:.6e}, {:.6e}) [{}]; mismatch {:.1e}.",
                 b.interface, b.applied[0], b.applied[1], b.interface_force[0], b.interface_force[1], units.force_per_width, b.mismatch
             );
+            if let Some(bearing) = b.bearing_force {
+                let friction = [b.interface_force[0] - bearing[0], b.interface_force[1] - bearing[1]];
+                let _ = writeln!(
+                    r,
+                    "Of the force its interfaces carry, the transverse members' passive bearing carries ({:.6e}, {:.6e}) and friction with the normal forces ({:.6e}, {:.6e}) [{}].",
+                    bearing[0], bearing[1], friction[0], friction[1], units.force_per_width
+                );
+            }
         }
     }
 

@@ -19,7 +19,7 @@
 //!          orders them), pore_pressure, plastic_fraction,
 //!          plastic_strain (cell); geometry, topology, element_id and material: links into /mesh
 //!     reinforcement/displacement (node), axial_force, state, bar_id (cell)
-//!     interface/displacement, lambda, sigma_n, tau, slip, state, face (node), face (cell);
+//!     interface/displacement, lambda, sigma_n, tau, bearing, dilation, slip, state, face (node), face (cell);
 //!          attribute faces: each face's name, `<interface>:<face>`, by its number
 //! /history/time, stage, stage_step, load_factor     one entry per step of the run, kept or not
 //! /history/<target> (<x|y>)/displacement, reaction  what history.csv holds, per target
@@ -451,6 +451,8 @@ impl Hdf5Results {
             node("lambda", w.array(&group, "lambda", &g.lambda, 1, Some(&u.force_per_width))?),
             node("sigma_n", w.array(&group, "sigma_n", &g.sigma_n, 1, stress)?),
             node("tau", w.array(&group, "tau", &g.tau, 1, stress)?),
+            node("bearing", w.array(&group, "bearing", &g.bearing, 1, stress)?),
+            node("dilation", w.array(&group, "dilation", &g.dilation, 1, length)?),
             node("slip", w.array(&group, "slip", &g.slip, 1, length)?),
             node("state", w.array(&group, "state", &g.state, 1, None)?),
             node("face", face.clone()),

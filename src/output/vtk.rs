@@ -137,6 +137,8 @@ fn interface(grids: &StepGrids) -> UnstructuredGridPiece {
                 Attribute::scalars("lambda", 1).with_data(g.lambda.clone()),
                 Attribute::scalars("sigma_n", 1).with_data(g.sigma_n.clone()),
                 Attribute::scalars("tau", 1).with_data(g.tau.clone()),
+                Attribute::scalars("bearing", 1).with_data(g.bearing.clone()),
+                Attribute::scalars("dilation", 1).with_data(g.dilation.clone()),
                 Attribute::scalars("slip", 1).with_data(g.slip.clone()),
                 Attribute::scalars("state", 1).with_data(g.state.clone()),
                 Attribute::scalars("face", 1).with_data(g.face.clone()),

@@ -53,6 +53,8 @@ pub fn bar_in_rigid_soil(
             master_normal: None,
             law,
             lower_law: None,
+            dilation: None,
+            bearing: None,
         }],
         stages: vec![Stage {
             name: "pull".into(),

@@ -3,7 +3,7 @@
 
 use super::materials::shear_law;
 use super::Draft;
-use crate::interface::{embed, pair, split, GeometryProblem};
+use crate::interface::{bearing, embed, pair, split, Bearing, Dilation, GeometryProblem};
 use crate::mesh::{NodeIndex, SideMap};
 use crate::model::file::*;
 use crate::model::problems::Problems;
@@ -23,6 +23,7 @@ pub(super) fn interfaces(d: &mut Draft, file: &ModelFile, p: &mut Problems) {
         }
         let law = shear_law(&spec.law, &format!("{field}.law"), &entity, p);
         let lower_law = spec.lower_law.as_ref().map(|l| shear_law(l, &format!("{field}.lower_law"), &entity, p));
+        let (dilation, bearing) = extras(spec, &field, &entity, p);
         if !*mesh_ok {
             continue;
         }
@@ -109,7 +110,21 @@ pub(super) fn interfaces(d: &mut Draft, file: &ModelFile, p: &mut Problems) {
                         );
                     }
                 }
+                if spec.bearing.is_some() && !r.stack.is_empty() {
+                    p.push(
+                        format!("{field}.bearing"),
+                        &entity,
+                        "passive bearing is not yet supported for a stack of geosynthetics: give it to a single geogrid",
+                    );
+                }
                 if r.mode == ReinforcementMode::Embedded {
+                    if spec.dilation.is_some() {
+                        p.push(
+                            format!("{field}.dilation"),
+                            &entity,
+                            "an embedded reinforcement's row holds it on a line through continuous soil, which cannot open: dilatancy needs the soil split along the reinforcement (leave out `mode`)",
+                        );
+                    }
                     if !r.stack.is_empty() {
                         p.push(
                             format!("{field}.reinforcement.stack"),
@@ -152,7 +167,16 @@ pub(super) fn interfaces(d: &mut Draft, file: &ModelFile, p: &mut Problems) {
                     )
                 };
                 match split {
-                    Ok((interface, record)) => {
+                    Ok((mut interface, record)) => {
+                        // the faces against the soil (not those between the layers of a stack)
+                        for face in interface
+                            .faces
+                            .iter_mut()
+                            .filter(|f| matches!(f.label.as_str(), "upper" | "lower" | "embedded"))
+                        {
+                            face.dilation = dilation;
+                            face.bearing = bearing;
+                        }
                         for (orig, twin) in record.twins {
                             twins.insert(orig, twin);
                         }
@@ -173,10 +197,22 @@ pub(super) fn interfaces(d: &mut Draft, file: &ModelFile, p: &mut Problems) {
                 if spec.lower_law.is_some() {
                     p.push(format!("{field}.lower_law"), &entity, "lower_law applies only to a reinforcement");
                 }
+                if spec.bearing.is_some() {
+                    p.push(
+                        format!("{field}.bearing"),
+                        &entity,
+                        "passive bearing is that of a geogrid's transverse members: it applies only to a reinforcement",
+                    );
+                }
                 let Some(law) = law else { continue };
                 let sides_now = SideMap::new(mesh);
                 match pair::pair(mesh, &sides_now, &spec.name, slave, master, spec.master_normal, law) {
-                    Ok(i) => interfaces.push(i),
+                    Ok(mut i) => {
+                        for face in &mut i.faces {
+                            face.dilation = dilation;
+                        }
+                        interfaces.push(i)
+                    }
                     Err(found) => report_geometry(p, &field, &entity, found),
                 }
             }
@@ -199,4 +235,106 @@ fn report_geometry(p: &mut Problems, field: &str, entity: &str, found: Vec<Geome
     for g in found {
         p.push(format!("{field}.{}", g.place), entity, g.message);
     }
+}
+
+/// The interface's dilatancy and passive bearing, checked; the laws they need are checked here too
+/// (dilatancy needs a plastic slip: a law with a strength that slides, not `tie`, `linear` or
+/// `hyperbolic`).
+fn extras(spec: &InterfaceSpec, field: &str, entity: &str, p: &mut Problems) -> (Option<Dilation>, Option<Bearing>) {
+    let positive = |v: f64| v.is_finite() && v > 0.0;
+    let dilation = spec.dilation.as_ref().and_then(|d| {
+        let before = p.len();
+        if !(d.angle.is_finite() && (0.0..45.0).contains(&d.angle)) {
+            p.push(format!("{field}.dilation.angle"), entity, format!("must be at least 0 and below 45 degrees (got {})", d.angle));
+        }
+        if !positive(d.max_dilation) {
+            p.push(format!("{field}.dilation.max_dilation"), entity, format!("must be a positive length (got {})", d.max_dilation));
+        }
+        let laws = std::iter::once(("law", &spec.law)).chain(spec.lower_law.as_ref().map(|l| ("lower_law", l)));
+        for (name, law) in laws {
+            if matches!(law, ShearLawSpec::Tie | ShearLawSpec::Linear { .. } | ShearLawSpec::Hyperbolic { .. }) {
+                p.push(
+                    format!("{field}.{name}"),
+                    entity,
+                    "dilatancy grows with the plastic slip, and this law has none: use coulomb, peak-residual or softening",
+                );
+            }
+        }
+        (p.len() == before).then(|| Dilation { tan_angle: d.angle.to_radians().tan(), max: d.max_dilation })
+    });
+    let bearing = spec.bearing.as_ref().and_then(|b| {
+        let before = p.len();
+        let f = |name: &str| format!("{field}.bearing.{name}");
+        if !positive(b.member_spacing) {
+            p.push(f("member_spacing"), entity, format!("must be a positive length (got {})", b.member_spacing));
+        }
+        if !positive(b.member_thickness) || !(b.member_thickness < b.member_spacing) {
+            p.push(
+                f("member_thickness"),
+                entity,
+                format!(
+                    "must be a positive length below the spacing (got {} with spacing {})",
+                    b.member_thickness, b.member_spacing
+                ),
+            );
+        }
+        if !(b.bearing_fraction > 0.0 && b.bearing_fraction <= 1.0) {
+            p.push(
+                f("bearing_fraction"),
+                entity,
+                format!("must be above 0 and at most 1 (got {})", b.bearing_fraction),
+            );
+        }
+        if !positive(b.mobilisation_displacement) {
+            p.push(
+                f("mobilisation_displacement"),
+                entity,
+                format!("must be a positive length (got {})", b.mobilisation_displacement),
+            );
+        }
+        if matches!(spec.law, ShearLawSpec::Tie) {
+            p.push(
+                format!("{field}.law"),
+                entity,
+                "a tied reinforcement does not slide, and its members cannot bear: give a sliding law",
+            );
+        }
+        let ratio = match (b.formula, b.friction_angle, b.ratio) {
+            (BearingFormula::Ratio, None, Some(r)) if positive(r) => Some(r),
+            (BearingFormula::Ratio, None, Some(r)) => {
+                p.push(f("ratio"), entity, format!("σb/σn must be positive (got {r})"));
+                None
+            }
+            (BearingFormula::Ratio, _, _) => {
+                p.push(f("ratio"), entity, "the `ratio` formula takes `ratio` (σb/σn) and no friction_angle");
+                None
+            }
+            (formula, Some(phi), None) if phi.is_finite() && phi > 0.0 && phi < 60.0 => {
+                let tan_phi = phi.to_radians().tan();
+                Some(if formula == BearingFormula::GeneralShear {
+                    bearing::general_shear_ratio(tan_phi)
+                } else {
+                    bearing::punching_shear_ratio(tan_phi)
+                })
+            }
+            (_, Some(phi), None) => {
+                p.push(f("friction_angle"), entity, format!("must be above 0 and below 60 degrees (got {phi})"));
+                None
+            }
+            (formula, _, _) => {
+                let name = if formula == BearingFormula::GeneralShear { "general-shear" } else { "punching-shear" };
+                p.push(
+                    f("friction_angle"),
+                    entity,
+                    format!("the `{name}` formula takes the soil's friction_angle and no ratio"),
+                );
+                None
+            }
+        };
+        let ratio = ratio?;
+        (p.len() == before).then(|| {
+            Bearing::new(b.member_spacing, b.member_thickness, b.bearing_fraction, ratio, b.mobilisation_displacement)
+        })
+    });
+    (dilation, bearing)
 }
