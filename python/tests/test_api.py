@@ -10,6 +10,7 @@ import _thread
 import csv
 import os
 import pathlib
+import signal
 import subprocess
 import tomllib
 
@@ -127,8 +128,14 @@ def test_an_interrupted_run_keeps_its_completed_steps(tmp_path):
         if stage == "pull-out" and step == 3:
             _thread.interrupt_main()  # as Ctrl-C would
 
-    with pytest.raises(KeyboardInterrupt) as stopped:
-        geoslip.Model.load(PAPER).run(solver="faer", out=tmp_path, progress=progress)
+    # Python installs its Ctrl-C handler only when SIGINT is not ignored at start-up, and a shell
+    # ignores SIGINT in the commands it starts in the background: install it here
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        with pytest.raises(KeyboardInterrupt) as stopped:
+            geoslip.Model.load(PAPER).run(solver="faer", out=tmp_path, progress=progress)
+    finally:
+        signal.signal(signal.SIGINT, previous)
     results = stopped.value.results
     assert not results.completed
     # the surcharge step and the pull-out's first three: the step in which Ctrl-C came is complete

@@ -124,11 +124,15 @@ fn condenses(options: &RunOptions, setup: &SoilSetup) -> bool {
 
 /// Whether every matrix of the run is symmetric, so that the solver may factorise it as LDLᵀ (MUMPS
 /// SYM=2, on the lower triangle) rather than LU. The constant-stiffness and newton-symmetric schemes
-/// always are. Newton's consistent tangent is unsymmetric only where τ is coupled to σn (a law with
+/// always are, unless a face dilates. Newton's consistent tangent is unsymmetric only where τ is coupled to σn (a law with
 /// friction, with σn not frozen: frozen in every stage that loads, from the first on, unless that
 /// stage is a strength-reduction search, which starts unfrozen) or where Mohr–Coulomb soil flows
 /// non-associatively (ψ ≠ φ, the return map's tangent).
 fn symmetric_tangent(model: &Model, options: &RunOptions) -> bool {
+    // a dilating face's normal row takes the slip's direction, its column does not
+    if model.interfaces.iter().flat_map(|i| &i.faces).any(|f| f.dilation.is_some()) {
+        return false;
+    }
     if options.analysis.scheme != Scheme::Newton {
         return true;
     }

@@ -76,6 +76,8 @@ struct Linearisation {
     tangent: Tangent,
     soil_trial: SoilTrial,
     coupling: Option<Vec<f64>>,
+    /// [∂d/∂s, ∂d/∂σn] of each spring's opening, when a face dilates.
+    dilation: Option<Vec<[f64; 2]>>,
     key: u64,
 }
 
@@ -234,9 +236,27 @@ fn linearise(
                 .collect()
         });
     let stiffness = &it.kept_stiffness.as_ref().expect("set above").1;
-    let key = inputs(&cx.elements, &soil_trial, &rows, stiffness, coupling.as_deref(), dofs, state).fingerprint();
+    // a dilating face's normal row follows its opening (∂d/∂σn only where σn is this row's own
+    // multiplier and not frozen)
+    let dilation: Option<Vec<[f64; 2]>> =
+        state.interfaces.iter().flat_map(|i| &i.faces).any(|f| f.dilation.is_some()).then(|| {
+            rows.springs
+                .iter()
+                .zip(&springs)
+                .map(|(s, r)| {
+                    let p = &state.interfaces[s.interface].faces[s.face].points[s.point];
+                    let own = matches!(p.normal_state, NormalState::Active)
+                        && p.pressure_from.is_none()
+                        && state.frozen_sigma_n.is_none();
+                    [r.dilation_rates[0], if own { r.dilation_rates[1] } else { 0.0 }]
+                })
+                .collect()
+        });
+    let key =
+        inputs(&cx.elements, &soil_trial, &rows, stiffness, coupling.as_deref(), dilation.as_deref(), dofs, state)
+            .fingerprint();
     cx.system.stats.interface_seconds += t.elapsed().as_secs_f64();
-    Linearisation { rows, springs, tangent, soil_trial, coupling, key }
+    Linearisation { rows, springs, tangent, soil_trial, coupling, dilation, key }
 }
 
 /// The inputs of an iteration's matrix.
@@ -246,6 +266,7 @@ fn inputs<'a>(
     rows: &'a InterfaceRows,
     spring_stiffness: &'a [f64],
     spring_coupling: Option<&'a [f64]>,
+    spring_dilation: Option<&'a [[f64; 2]]>,
     dofs: &'a DofMap,
     state: &'a State,
 ) -> SystemInputs<'a> {
@@ -255,6 +276,7 @@ fn inputs<'a>(
         rows,
         spring_stiffness,
         spring_coupling,
+        spring_dilation,
         bars: &state.bars,
         interfaces: &state.interfaces,
         dofs,
@@ -281,8 +303,16 @@ fn solve(
     let t = Instant::now();
     let reuse = it.matrix_key == Some(linear.key);
     let stiffness = &it.kept_stiffness.as_ref().expect("set by linearise").1;
-    let system =
-        inputs(&cx.elements, &linear.soil_trial, &linear.rows, stiffness, linear.coupling.as_deref(), dofs, state);
+    let system = inputs(
+        &cx.elements,
+        &linear.soil_trial,
+        &linear.rows,
+        stiffness,
+        linear.coupling.as_deref(),
+        linear.dilation.as_deref(),
+        dofs,
+        state,
+    );
     let element = it.carried_element_force.take();
     let IterationSystem { triplets, rhs, scale, active } =
         iteration_system(system, &linear.springs, state, !reuse, element);
@@ -355,7 +385,16 @@ fn right_hand_side<'a>(
     element: Option<Vec<f64>>,
 ) -> (SystemInputs<'a>, Vec<f64>, f64) {
     let t = Instant::now();
-    let system = inputs(elements, &linear.soil_trial, &linear.rows, stiffness, linear.coupling.as_deref(), dofs, state);
+    let system = inputs(
+        elements,
+        &linear.soil_trial,
+        &linear.rows,
+        stiffness,
+        linear.coupling.as_deref(),
+        linear.dilation.as_deref(),
+        dofs,
+        state,
+    );
     let IterationSystem { rhs, scale, .. } = iteration_system(system, &linear.springs, state, false, element);
     stats.assembly_seconds += t.elapsed().as_secs_f64();
     (system, rhs, scale)
@@ -395,8 +434,16 @@ fn solve_condensed(
     if soil_key.is_some() && soil_key != cx.conditioning_checked {
         cx.conditioning_checked = soil_key;
         let stiffness = &it.kept_stiffness.as_ref().expect("set by linearise").1;
-        let system =
-            inputs(&cx.elements, &linear.soil_trial, &linear.rows, stiffness, linear.coupling.as_deref(), dofs, state);
+        let system = inputs(
+            &cx.elements,
+            &linear.soil_trial,
+            &linear.rows,
+            stiffness,
+            linear.coupling.as_deref(),
+            linear.dilation.as_deref(),
+            dofs,
+            state,
+        );
         let triplets = system.assemble();
         singular::warn_if_ill_conditioned(cx, dofs, state, &triplets);
     }
@@ -751,6 +798,6 @@ pub fn first_system(model: &Model) -> (usize, IterationSystem) {
         .iter()
         .map(|s| state.interfaces[s.interface].faces[s.face].law.shear_stiffness().unwrap_or(0.0) * s.tributary)
         .collect();
-    let system = inputs(&elements, &soil_trial, &rows, &stiffness, None, &dofs, &state);
+    let system = inputs(&elements, &soil_trial, &rows, &stiffness, None, None, &dofs, &state);
     (dofs.size(), iteration_system(system, &springs, &state, true, None))
 }

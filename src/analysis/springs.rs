@@ -5,7 +5,7 @@
 use super::soil;
 use super::state::State;
 use crate::interface::rows::{InterfaceRows, Spring};
-use crate::interface::{NormalState, ShearResponse};
+use crate::interface::{Dilation, NormalState, ShearResponse, ShearState};
 use crate::model::Model;
 
 /// One spring's law evaluated at the current iterate.
@@ -24,6 +24,9 @@ pub struct SpringResult {
     pub bearing: f64,
     /// The face's opening by dilatancy at this slip (zero on a face that does not dilate).
     pub dilation: f64,
+    /// ∂d/∂s and ∂d/∂σn′ of that opening (zero while the point sticks, or at the largest dilation):
+    /// the normal row's linearisation.
+    pub dilation_rates: [f64; 2],
     /// The slope of the point's law from its current state while elastic: Ks, plus the bearing's
     /// τb,max/δb (the constant-stiffness scheme's spring).
     pub elastic_stiffness: f64,
@@ -93,8 +96,13 @@ pub fn evaluate(model: &Model, state: &State, rows: &InterfaceRows) -> Vec<Sprin
             };
             let face = &interface.faces[s.face];
             let mut elastic_stiffness = face.law.shear_stiffness().unwrap_or(0.0);
+            let mut dilation_rates = [0.0; 2];
             let response = if p.in_contact() {
                 let mut response = face.law.response(&p.shear, slip, effective);
+                if let (Some(d), true) = (&face.dilation, response.sliding) {
+                    dilation_rates =
+                        dilation_rates_of(d, face.law.shear_stiffness().unwrap_or(0.0), &p.shear, &response);
+                }
                 response.state.bearing_tau = 0.0;
                 if let Some(bearing) = &face.bearing {
                     // the members bear on top of the face's friction, from the same slip
@@ -127,11 +135,24 @@ pub fn evaluate(model: &Model, state: &State, rows: &InterfaceRows) -> Vec<Sprin
                 sigma_n,
                 bearing: response.state.bearing_tau,
                 dilation,
+                dilation_rates,
                 elastic_stiffness,
                 response,
             }
         })
         .collect()
+}
+
+/// ∂d/∂s and ∂d/∂σn′ of a sliding point's opening d = tan ψ·κ below the largest dilation: κ grows by
+/// the plastic slip's change |Δs_p|, and while sliding Δs_p = Δs − Δτ/Ks with Δτ = (∂τ/∂s)·Δs +
+/// (∂τ/∂σn′)·Δσn′.
+fn dilation_rates_of(d: &Dilation, ks: f64, committed: &ShearState, response: &ShearResponse) -> [f64; 2] {
+    if ks <= 0.0 || d.opening(response.state.plastic_path) >= d.max {
+        return [0.0; 2];
+    }
+    let change = response.state.plastic_slip - committed.plastic_slip;
+    let sign = if change != 0.0 { change.signum() } else { response.tau.signum() };
+    [d.tan_angle * sign * (1.0 - response.tangent / ks), -d.tan_angle * sign * response.d_tau_d_sigma / ks]
 }
 
 /// Store each spring's converged law state in its point.

@@ -156,6 +156,9 @@ pub struct SystemInputs<'a> {
     /// ∂τ/∂σn of each spring (the consistent tangent's coupling to its normal multiplier), when the
     /// scheme asks for it.
     pub spring_coupling: Option<&'a [f64]>,
+    /// [∂d/∂s, ∂d/∂σn] of each spring's opening by dilatancy, when a face dilates: its normal row
+    /// holds g + d = 0, linearised as (row_n + ∂d/∂s·row_t)·Δu + (∂d/∂σn)·Δλ/ℓ.
+    pub spring_dilation: Option<&'a [[f64; 2]]>,
     pub bars: &'a BarStates,
     pub interfaces: &'a [Interface],
     pub dofs: &'a DofMap,
@@ -249,7 +252,8 @@ impl SystemInputs<'_> {
 
     /// The springs, their coupling to the multipliers and the constraint rows.
     fn add_interface(&self, t: &mut Triplets) {
-        let SystemInputs { rows, spring_stiffness, spring_coupling, interfaces, dofs, scale, .. } = *self;
+        let SystemInputs { rows, spring_stiffness, spring_coupling, spring_dilation, interfaces, dofs, scale, .. } =
+            *self;
         let eq = |d: usize| dofs.equation[d];
         for (spring, k) in rows.springs.iter().zip(spring_stiffness) {
             for &(da, ca) in &spring.row {
@@ -286,6 +290,23 @@ impl SystemInputs<'_> {
             }
             t.push(m, m, if active { 0.0 } else { scale });
         }
+        // A dilating face's normal row, g + d(κ) = 0, in the rows of the multipliers (always pushed
+        // where a face dilates, zero where it does not apply, for a fixed pattern); the row is
+        // scaled by s and the unknown is Δλ/s, so ∂d/∂σn·Δλ/ℓ enters as s²·(∂d/∂σn)/ℓ.
+        if let Some(dilation) = spring_dilation {
+            for (spring, &[slope, pressure]) in rows.springs.iter().zip(dilation) {
+                let k = spring.normal_multiplier;
+                let m = dofs.multiplier_equation(k);
+                let active = multiplier_is_active(interfaces, dofs.multipliers[k]);
+                for &(d, c) in &spring.row {
+                    if let Some(i) = eq(d) {
+                        t.push(m, i, if active { scale * slope * c } else { 0.0 });
+                    }
+                }
+                let l = spring.tributary.max(f64::MIN_POSITIVE);
+                t.push(m, m, if active { scale * scale * pressure / l } else { 0.0 });
+            }
+        }
     }
 
     /// A fingerprint of everything in the assembled matrix but the element matrices (which do not
@@ -293,8 +314,18 @@ impl SystemInputs<'_> {
     /// coupling, the ruptured and absent bars, the soil present and its tangents, which multipliers
     /// are active, and the row scale.
     pub fn fingerprint(&self) -> u64 {
-        let SystemInputs { elements: _, soil, rows, spring_stiffness, spring_coupling, bars, interfaces, dofs, scale } =
-            *self;
+        let SystemInputs {
+            elements: _,
+            soil,
+            rows,
+            spring_stiffness,
+            spring_coupling,
+            spring_dilation,
+            bars,
+            interfaces,
+            dofs,
+            scale,
+        } = *self;
         use std::hash::{Hash, Hasher};
         let mut h = std::collections::hash_map::DefaultHasher::new();
         let entries = |row: &[(usize, f64)], h: &mut std::collections::hash_map::DefaultHasher| {
@@ -311,6 +342,9 @@ impl SystemInputs<'_> {
             entries(row, &mut h);
         }
         for k in spring_stiffness.iter().chain(spring_coupling.unwrap_or(&[])) {
+            k.to_bits().hash(&mut h);
+        }
+        for k in spring_dilation.unwrap_or(&[]).iter().flatten() {
             k.to_bits().hash(&mut h);
         }
         bars.ruptured.hash(&mut h);

@@ -897,7 +897,9 @@ impl ResultWriter {
             // a monotonic pull is drawn as magnitudes; a displacement that changes sign (cyclic
             // loading) is drawn with its signs, so that the loops show
             let largest = signed.iter().fold(0.0f64, |a, p| a.max(p.0.abs()));
-            let both_ways = signed.iter().any(|p| p.0 > 1e-9 * largest) && signed.iter().any(|p| p.0 < -1e-9 * largest);
+            // (1 % of the largest either way: the small opposite movement of a head under the
+            // confining stage is not a reversal)
+            let both_ways = signed.iter().any(|p| p.0 > 0.01 * largest) && signed.iter().any(|p| p.0 < -0.01 * largest);
             let (points, bars) = if both_ways {
                 (signed, ("", ""))
             } else {
