@@ -4,6 +4,7 @@
 //! ids after the largest one in the file). Every index stored here is valid by construction: the
 //! validator builds a `Mesh` only after every reference has been resolved.
 
+use crate::element::geometry::Geometry;
 use crate::element::solid::SolidKind;
 use std::collections::HashMap;
 
@@ -38,6 +39,8 @@ pub struct Mesh {
     pub nodes: Vec<Node>,
     pub solids: Vec<Solid>,
     pub bars: Vec<Bar>,
+    /// Plane strain or axisymmetric: what a length and an area of the mesh weigh.
+    pub geometry: Geometry,
     index_of_id: HashMap<u64, NodeIndex>,
 }
 

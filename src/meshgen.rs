@@ -164,6 +164,20 @@ impl Block {
             })
             .collect()
     }
+
+    /// The element sides along column `i`, bottom to top, as edge-set entries.
+    pub fn column_edges(&self, i: usize) -> Vec<Vec<u64>> {
+        (0..self.ny)
+            .map(|j| {
+                let (a, b) = (self.node(i, j), self.node(i, j + 1));
+                if self.step == 2 {
+                    vec![a, b, self.lattice_id(2 * i, 2 * j + 1)]
+                } else {
+                    vec![a, b]
+                }
+            })
+            .collect()
+    }
 }
 
 /// A pull-out box: a soil block `length` × `height` with a reinforcement at mid-height (or `layers`

@@ -24,7 +24,7 @@ pub fn external_force(model: &Model, loads: &[Load]) -> Vec<f64> {
                     let nodes: Vec<usize> = local.iter().map(|&l| e.nodes[l]).collect();
                     let coords: Vec<[f64; 2]> = nodes.iter().map(|&n| mesh.position(n)).collect();
                     // Element sides run counter-clockwise: the element lies to their left.
-                    let fe = solid::side_traction(&coords, *pressure, *shear, 1.0);
+                    let fe = solid::side_traction(&coords, *pressure, *shear, 1.0, mesh.geometry);
                     for (a, &n) in nodes.iter().enumerate() {
                         f[2 * n] += fe[2 * a];
                         f[2 * n + 1] += fe[2 * a + 1];

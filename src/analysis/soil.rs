@@ -62,26 +62,37 @@ impl SoilSetup {
 
 fn element_points(model: &Model, e: &crate::mesh::Solid, rule: Integration) -> Vec<MappedPoint> {
     let coords: Vec<[f64; 2]> = e.nodes.iter().map(|&n| model.mesh.position(n)).collect();
-    solid::mapped_points(e.kind, &coords, rule).expect("element Jacobians were checked when the model was read")
+    solid::mapped_points(e.kind, &coords, rule, model.mesh.geometry)
+        .expect("element Jacobians were checked when the model was read")
 }
 
-/// Strain (εxx, εyy, γxy) at a mapped point for element displacements `u_e`.
-fn strain(p: &MappedPoint, u_e: &[f64]) -> [f64; 3] {
-    let mut e = [0.0; 3];
+/// Strain (εxx, εyy, γxy, εzz) at a mapped point for element displacements `u_e`: εzz is zero in
+/// plane strain and the hoop strain Σ N_i·u_xi/r in axisymmetry.
+fn strain(p: &MappedPoint, u_e: &[f64]) -> [f64; 4] {
+    let mut e = [0.0; 4];
     for (i, d) in p.dn_dx.iter().enumerate() {
         let (ux, uy) = (u_e[2 * i], u_e[2 * i + 1]);
         e[0] += d[0] * ux;
         e[1] += d[1] * uy;
         e[2] += d[1] * ux + d[0] * uy;
     }
+    if let Some(inverse_radius) = p.inverse_radius {
+        e[3] = p.n.iter().enumerate().map(|(i, n)| n * u_e[2 * i]).sum::<f64>() * inverse_radius;
+    }
     e
 }
 
-/// Add Bᵀ·(σxx, σyy, τxy)·w to an element force vector.
-fn add_bt_sigma(p: &MappedPoint, s: [f64; 3], f: &mut [f64]) {
+/// Add Bᵀ·(σxx, σyy, τxy, σzz)·w to an element force vector (σzz, the hoop stress, only in
+/// axisymmetry: in plane strain εzz = 0 does no work).
+fn add_bt_sigma(p: &MappedPoint, s: [f64; 4], f: &mut [f64]) {
     for (i, d) in p.dn_dx.iter().enumerate() {
         f[2 * i] += (d[0] * s[0] + d[1] * s[2]) * p.weight;
         f[2 * i + 1] += (d[1] * s[1] + d[0] * s[2]) * p.weight;
+    }
+    if let Some(inverse_radius) = p.inverse_radius {
+        for (i, n) in p.n.iter().enumerate() {
+            f[2 * i] += n * inverse_radius * s[3] * p.weight;
+        }
     }
 }
 
@@ -188,7 +199,7 @@ pub fn set_water(model: &Model, setup: &SoilSetup, field: &mut SoilField, water:
         }
         let mut f = vec![0.0; setup.dofs[s].len()];
         for (p, &pw) in points.iter().zip(&pore) {
-            add_bt_sigma(p, [pw, pw, 0.0], &mut f);
+            add_bt_sigma(p, [pw, pw, 0.0, pw], &mut f);
         }
         state.pore = pore;
         state.pore_force = Some(f);
@@ -243,7 +254,7 @@ pub fn water_on_boundary(model: &Model, field: &SoilField, interfaces: &[crate::
                     dx[0] += di * c[0];
                     dx[1] += di * c[1];
                 }
-                let p = water.pressure(x);
+                let p = water.pressure(x) * mesh.geometry.circumference(x);
                 if p == 0.0 {
                     continue;
                 }
@@ -362,7 +373,7 @@ pub fn set_k0(model: &Model, setup: &SoilSetup, field: &mut SoilField, u: &[f64]
                     let pore = water.as_ref().map_or(0.0, |w| w.pressure(p.x));
                     let sv = vertical_stress(p.x) - pore;
                     let stress = [-k0 * sv, -sv, 0.0, -k0 * sv];
-                    add_bt_sigma(p, [stress[0], stress[1], stress[2]], &mut force);
+                    add_bt_sigma(p, stress, &mut force);
                     PointState { stress, plastic_strain: 0.0, yield_state: YieldState::Elastic }
                 })
                 .collect();
@@ -423,28 +434,24 @@ pub fn evaluate(setup: &SoilSetup, field: &SoilField, u: &[f64], u_committed: &[
             let mut yielding = 0;
             for (g, p) in points.iter().enumerate() {
                 let old = committed.get(g).copied().unwrap_or_default();
-                let update = mohr_coulomb::update(law, &setup.elastic[s], old.stress, strain(p, &du));
-                add_bt_sigma(p, [update.stress[0], update.stress[1], update.stress[2]], &mut force);
+                let update = mohr_coulomb::update_with_hoop(law, &setup.elastic[s], old.stress, strain(p, &du));
+                add_bt_sigma(p, update.stress, &mut force);
                 if update.state.is_plastic() {
                     yielding += 1;
                 }
                 // At the apex the stress cannot change at all (its tangent is zero); a patch of
                 // such points, as at a cohesionless surface, would be a mechanism of the iteration
                 // matrix alone, so they keep the elastic matrix there.
-                if update.state.is_plastic() && update.state != YieldState::Apex && tangent != Tangent::Elastic {
-                    let c = match tangent {
+                let c = if update.state.is_plastic() && update.state != YieldState::Apex && tangent != Tangent::Elastic
+                {
+                    match tangent {
                         Tangent::Symmetric => 0.5 * (update.tangent + update.tangent.transpose()),
                         _ => update.tangent,
-                    };
-                    let b = solid::b_matrix(&p.dn_dx);
-                    let cb = nalgebra::DMatrix::from_fn(3, 3, |i, j| c[(i, j)]) * &b;
-                    k += b.transpose() * cb * p.weight;
+                    }
                 } else {
-                    let b = solid::b_matrix(&p.dn_dx);
-                    let d = setup.elastic[s].d_matrix();
-                    let db = nalgebra::DMatrix::from_fn(3, 3, |i, j| d[(i, j)]) * &b;
-                    k += b.transpose() * db * p.weight;
-                }
+                    setup.elastic[s].d_matrix_with_hoop()
+                };
+                k += solid::point_stiffness(p, &c);
                 states.push(PointState {
                     stress: update.stress,
                     plastic_strain: old.plastic_strain + update.plastic_strain,
@@ -527,15 +534,14 @@ fn element_results(model: &Model, field: &SoilField, u: &[f64], s: usize) -> Vec
                 point.stress
             } else {
                 let s0 = point.stress;
-                let d = mohr_coulomb::trial_stress(&elastic, s0, eps);
-                [d[0], d[1], d[2], d[3]]
+                mohr_coulomb::trial_stress(&elastic, s0, eps)
             };
             ElementStress {
                 element: e.id,
                 point: g + 1,
                 x: p.x,
                 stress,
-                strain: eps,
+                strain: [eps[0], eps[1], eps[2]],
                 pore_pressure: state.pore.get(g).copied().unwrap_or(0.0),
                 yield_state: point.yield_state,
                 plastic_strain: point.plastic_strain,

@@ -78,7 +78,7 @@ impl ElementMatrices {
             .map(|(s, e)| {
                 let coords: Vec<[f64; 2]> = e.nodes.iter().map(|&n| mesh.position(n)).collect();
                 // Validation has checked every Jacobian; a failure here would be a bug, not bad input.
-                let k = solid::stiffness(e.kind, &coords, &elastic[s], rule)
+                let k = solid::stiffness(e.kind, &coords, &elastic[s], rule, mesh.geometry)
                     .expect("element Jacobians were checked when the model was read");
                 (dofs_of(&e.nodes), k)
             })

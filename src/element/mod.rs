@@ -1,6 +1,7 @@
-//! Element formulations: plane-strain soil solids and reinforcement bars.
+//! Element formulations: plane-strain and axisymmetric soil solids and reinforcement bars.
 
 pub mod bar;
+pub mod geometry;
 pub mod mohr_coulomb;
 pub mod soil_state;
 pub mod solid;

@@ -25,7 +25,7 @@
 //! Eq. A.43). It is unsymmetric when ψ ≠ φ.
 
 use super::solid::PlaneStrain;
-use nalgebra::{Matrix3, Vector3};
+use nalgebra::{Matrix3, Matrix4, Vector3};
 
 /// The strength and flow parameters of a Mohr–Coulomb soil.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -104,8 +104,9 @@ impl YieldState {
 pub struct StressUpdate {
     /// σxx, σyy, τxy, σzz.
     pub stress: [f64; 4],
-    /// dσ/dε: rows σxx, σyy, τxy; columns εxx, εyy, γxy.
-    pub tangent: Matrix3<f64>,
+    /// dσ/dε: rows σxx, σyy, τxy, σzz; columns εxx, εyy, γxy, εzz (εzz = 0 in plane strain, the
+    /// hoop strain in axisymmetry).
+    pub tangent: Matrix4<f64>,
     pub state: YieldState,
     /// Increment of the equivalent plastic strain √(2/3·Δεᵖ:Δεᵖ).
     pub plastic_strain: f64,
@@ -176,15 +177,16 @@ fn lame(e: &PlaneStrain) -> (f64, f64) {
     (young * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)), young / (2.0 * (1.0 + nu)))
 }
 
-/// The elastic trial stress: committed stress plus D·Δε (σzz from λ·tr Δε, since εzz = 0).
-pub fn trial_stress(elastic: &PlaneStrain, committed: [f64; 4], d_strain: [f64; 3]) -> [f64; 4] {
+/// The elastic trial stress: committed stress plus D·Δε for Δε = (εxx, εyy, γxy, εzz) (εzz = 0 in
+/// plane strain, so σzz grows by λ·tr Δε; the hoop strain in axisymmetry).
+pub fn trial_stress(elastic: &PlaneStrain, committed: [f64; 4], d_strain: [f64; 4]) -> [f64; 4] {
     let (lambda, mu) = lame(elastic);
-    let tr = d_strain[0] + d_strain[1];
+    let tr = d_strain[0] + d_strain[1] + d_strain[3];
     [
         committed[0] + lambda * tr + 2.0 * mu * d_strain[0],
         committed[1] + lambda * tr + 2.0 * mu * d_strain[1],
         committed[2] + mu * d_strain[2],
-        committed[3] + lambda * tr,
+        committed[3] + lambda * tr + 2.0 * mu * d_strain[3],
     ]
 }
 
@@ -210,16 +212,27 @@ fn candidate_sets() -> Vec<Vec<usize>> {
     sets
 }
 
-/// Update the stress of one point for a strain increment `d_strain` (εxx, εyy, γxy) from its
-/// committed stress, and give the consistent tangent.
+/// [`update_with_hoop`] in plane strain (εzz = 0).
+pub fn update(law: &MohrCoulomb, elastic: &PlaneStrain, committed: [f64; 4], d_strain: [f64; 3]) -> StressUpdate {
+    update_with_hoop(law, elastic, committed, [d_strain[0], d_strain[1], d_strain[2], 0.0])
+}
+
+/// Update the stress of one point for a strain increment `d_strain` (εxx, εyy, γxy, εzz) from its
+/// committed stress, and give the consistent tangent. zz is a principal direction either way: the
+/// out-of-plane axis of plane strain, or the hoop direction of an axisymmetric body.
 ///
 /// One function of some 170 lines on purpose: the trial state in sorted principal axes, the search
 /// over the sets of active planes, the plastic strain and the consistent tangent with its spin term
 /// share every intermediate, and the steps follow the module's references in the order they are
 /// written there; split, they would pass a dozen matrices between them.
-pub fn update(law: &MohrCoulomb, elastic: &PlaneStrain, committed: [f64; 4], d_strain: [f64; 3]) -> StressUpdate {
+pub fn update_with_hoop(
+    law: &MohrCoulomb,
+    elastic: &PlaneStrain,
+    committed: [f64; 4],
+    d_strain: [f64; 4],
+) -> StressUpdate {
     let trial = trial_stress(elastic, committed, d_strain);
-    let d = elastic.d_matrix();
+    let d = elastic.d_matrix_with_hoop();
     // In-plane principal stresses and directions of the trial stress.
     let centre = 0.5 * (trial[0] + trial[1]);
     let half = 0.5 * (trial[0] - trial[1]);
@@ -366,24 +379,16 @@ pub fn update(law: &MohrCoulomb, elastic: &PlaneStrain, committed: [f64; 4], d_s
         }
         m[(3, col)] = dy[2];
     }
-    // dσ_trial/dε (Voigt stress ← εxx, εyy, γxy)
+    // dσ_trial/dε (Voigt stress ← εxx, εyy, γxy, εzz)
     let (lambda, mu) = lame(elastic);
-    let d4 = nalgebra::Matrix4x3::new(
-        lambda + 2.0 * mu,
-        lambda,
-        0.0,
-        lambda,
-        lambda + 2.0 * mu,
-        0.0,
-        0.0,
-        0.0,
-        mu,
-        lambda,
-        lambda,
-        0.0,
+    #[rustfmt::skip]
+    let d4 = Matrix4::new(
+        lambda + 2.0 * mu, lambda, 0.0, lambda,
+        lambda, lambda + 2.0 * mu, 0.0, lambda,
+        0.0, 0.0, mu, 0.0,
+        lambda, lambda, 0.0, lambda + 2.0 * mu,
     );
-    let full = m * d4;
-    let tangent = Matrix3::from_fn(|r, c| full[(r, c)]);
+    let tangent = m * d4;
     StressUpdate { stress, tangent, state, plastic_strain }
 }
 
@@ -439,12 +444,47 @@ mod tests {
         }
     }
 
+    /// The 4 × 4 tangent of an axisymmetric point (εzz the hoop strain) against central differences,
+    /// in shear, on an edge and at tension.
+    #[test]
+    fn tangent_with_the_hoop_strain_matches_central_differences() {
+        let cases: [(MohrCoulomb, [f64; 4], [f64; 4]); 3] = [
+            (law(5.0, 30.0, 10.0), [-50.0, -100.0, 10.0, -70.0], [2e-3, -3e-3, 1e-3, 1.5e-3]),
+            (law(0.0, 35.0, 35.0), [-100.0, -100.0, 0.0, -100.0], [4e-3, -8e-3, 0.0, 4e-3]),
+            (law(10.0, 25.0, 0.0), [-80.0, -40.0, 5.0, -60.0], [-1e-3, 4e-3, 2e-3, 3e-3]),
+        ];
+        for (m, committed, de) in cases {
+            let base = update_with_hoop(&m, &ELASTIC, committed, de);
+            assert!(base.state.is_plastic(), "{committed:?} + {de:?} stays elastic");
+            let h = 1e-9;
+            for col in 0..4 {
+                let (mut plus, mut minus) = (de, de);
+                plus[col] += h;
+                minus[col] -= h;
+                let sp = update_with_hoop(&m, &ELASTIC, committed, plus).stress;
+                let sm = update_with_hoop(&m, &ELASTIC, committed, minus).stress;
+                for row in 0..4 {
+                    let fd = (sp[row] - sm[row]) / (2.0 * h);
+                    let an = base.tangent[(row, col)];
+                    assert!(
+                        (fd - an).abs() < 1e-5 * base.tangent.amax().max(ELASTIC.youngs_modulus),
+                        "{:?}: dσ{row}/dε{col}: analytic {an}, central difference {fd}",
+                        base.state
+                    );
+                }
+            }
+            // and the returned stress lies on the surface
+            let f = shear_f(&m, base.stress);
+            assert!(f < 1e-9 * 100.0, "{:?}: f = {f}", base.state);
+        }
+    }
+
     #[test]
     fn elastic_inside_the_surface() {
         let m = law(10.0, 30.0, 0.0);
         let u = update(&m, &ELASTIC, [-100.0, -100.0, 0.0, -100.0], [1e-5, -1e-5, 0.0]);
         assert_eq!(u.state, YieldState::Elastic);
-        assert!((u.tangent - ELASTIC.d_matrix()).amax() < 1e-9);
+        assert!((u.tangent - ELASTIC.d_matrix_with_hoop()).amax() < 1e-9);
     }
 
     #[test]

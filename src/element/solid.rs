@@ -1,9 +1,14 @@
-//! Plane-strain isoparametric soil elements: tri3, tri6, quad4, quad8 (Gmsh node order).
+//! Isoparametric soil elements, plane strain or axisymmetric: tri3, tri6, quad4, quad8 (Gmsh node
+//! order).
 //!
-//! Stiffness K_e = ∫ Bᵀ D B dA per metre width, integrated with a Gauss rule that is exact for
-//! undistorted elements (1 point for tri3, 3 for tri6, 2×2 for quad4, 3×3 for quad8).
+//! Stiffness K_e = ∫ Bᵀ D B dA per metre width (plane strain) or ∫ Bᵀ D B 2πr dA with the hoop
+//! strain εθ = u_r/r as a fourth row of B (axisymmetric; Zienkiewicz & Taylor vol. 1 §6.2),
+//! integrated with a Gauss rule that is exact for undistorted plane elements (1 point for tri3, 3
+//! for tri6, 2×2 for quad4, 3×3 for quad8). Axisymmetric Gauss points lie inside the element, so
+//! 1/r is finite even for an element that touches the axis.
 
-use nalgebra::{DMatrix, DVector, Matrix3};
+use super::geometry::Geometry;
+use nalgebra::{DMatrix, DVector, Matrix3, Matrix4};
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
@@ -29,6 +34,15 @@ impl PlaneStrain {
         let (e, nu) = (self.youngs_modulus, self.poissons_ratio);
         let f = e / ((1.0 + nu) * (1.0 - 2.0 * nu));
         Matrix3::new(f * (1.0 - nu), f * nu, 0.0, f * nu, f * (1.0 - nu), 0.0, 0.0, 0.0, f * (1.0 - 2.0 * nu) / 2.0)
+    }
+
+    /// The elasticity of (εxx, εyy, γxy, εzz) with εzz free: the hoop strain εθ of an axisymmetric
+    /// body (x = r, y = z, zz = θθ).
+    pub fn d_matrix_with_hoop(&self) -> Matrix4<f64> {
+        let (e, nu) = (self.youngs_modulus, self.poissons_ratio);
+        let f = e / ((1.0 + nu) * (1.0 - 2.0 * nu));
+        let (a, b, g) = (f * (1.0 - nu), f * nu, f * (1.0 - 2.0 * nu) / 2.0);
+        Matrix4::new(a, b, 0.0, b, b, a, 0.0, b, 0.0, 0.0, g, 0.0, b, b, 0.0, a)
     }
 
     /// Out-of-plane stress σzz = ν(σxx + σyy).
@@ -147,20 +161,29 @@ pub fn gauss_points(kind: SolidKind, rule: Integration) -> Vec<(f64, f64, f64)> 
     }
 }
 
-/// One integration point mapped to the element: position, weight × det J, N and ∂N/∂x.
+/// One integration point mapped to the element: position, weight × det J (× 2πr in axisymmetry),
+/// N and ∂N/∂x.
 pub struct MappedPoint {
     pub x: [f64; 2],
     pub weight: f64,
     pub n: Vec<f64>,
     pub dn_dx: Vec<[f64; 2]>,
+    /// 1/r in an axisymmetric element (the hoop strain is Σ N_i·u_ri/r); `None` in plane strain.
+    pub inverse_radius: Option<f64>,
 }
 
 /// Map every Gauss point of the element with the given nodal coordinates.
 ///
 /// # Errors
 /// [`BadJacobian`] when det J ≤ 0 at any Gauss point (or at the corners, for quadrilaterals, where a
-/// bow-tie first shows).
-pub fn mapped_points(kind: SolidKind, coords: &[[f64; 2]], rule: Integration) -> Result<Vec<MappedPoint>, BadJacobian> {
+/// bow-tie first shows), or, in axisymmetry, when a Gauss point is not at r > 0 (an element on the
+/// wrong side of the axis).
+pub fn mapped_points(
+    kind: SolidKind,
+    coords: &[[f64; 2]],
+    rule: Integration,
+    geometry: Geometry,
+) -> Result<Vec<MappedPoint>, BadJacobian> {
     let size = coords.iter().fold(0.0f64, |m, c| m.max(c[0].abs()).max(c[1].abs())).max(1e-300);
     let mut points = Vec::new();
     let corners: &[(f64, f64)] = match kind {
@@ -191,7 +214,16 @@ pub fn mapped_points(kind: SolidKind, coords: &[[f64; 2]], rule: Integration) ->
             x[0] += ni * c[0];
             x[1] += ni * c[1];
         }
-        points.push(MappedPoint { x, weight: w * det, n, dn_dx });
+        let (weight, inverse_radius) = match geometry {
+            Geometry::PlaneStrain => (w * det, None),
+            Geometry::Axisymmetric => {
+                if !(x[0] > 1e-12 * size) {
+                    return Err(BadJacobian { det: x[0] });
+                }
+                (w * det * geometry.circumference(x), Some(1.0 / x[0]))
+            }
+        };
+        points.push(MappedPoint { x, weight, n, dn_dx, inverse_radius });
     }
     Ok(points)
 }
@@ -220,6 +252,31 @@ pub fn b_matrix(dn_dx: &[[f64; 2]]) -> DMatrix<f64> {
     b
 }
 
+/// Strain-displacement matrix with the hoop row (4 × 2n: εxx, εyy, γxy, εθ) at an axisymmetric
+/// point; plane strain's 3 rows at a plane one.
+pub fn b_matrix_of(p: &MappedPoint) -> DMatrix<f64> {
+    let Some(inverse_radius) = p.inverse_radius else { return b_matrix(&p.dn_dx) };
+    let n = p.dn_dx.len();
+    let mut b = DMatrix::zeros(4, 2 * n);
+    for (i, d) in p.dn_dx.iter().enumerate() {
+        b[(0, 2 * i)] = d[0];
+        b[(1, 2 * i + 1)] = d[1];
+        b[(2, 2 * i)] = d[1];
+        b[(2, 2 * i + 1)] = d[0];
+        b[(3, 2 * i)] = p.n[i] * inverse_radius;
+    }
+    b
+}
+
+/// The point's stiffness Bᵀ·D·B·w, with D the 4 × 4 tangent of (εxx, εyy, γxy, εzz): its upper
+/// 3 × 3 block in plane strain (εzz = 0), all of it in axisymmetry (εzz = εθ).
+pub fn point_stiffness(p: &MappedPoint, d: &Matrix4<f64>) -> DMatrix<f64> {
+    let b = b_matrix_of(p);
+    let rows = b.nrows();
+    let d = DMatrix::from_fn(rows, rows, |i, j| d[(i, j)]);
+    b.transpose() * (d * &b) * p.weight
+}
+
 /// Element stiffness matrix (2n × 2n, DOF order ux1, uy1, ux2, …).
 ///
 /// # Errors
@@ -229,11 +286,19 @@ pub fn stiffness(
     coords: &[[f64; 2]],
     material: &PlaneStrain,
     rule: Integration,
+    geometry: Geometry,
 ) -> Result<DMatrix<f64>, BadJacobian> {
+    let mut k = DMatrix::zeros(2 * coords.len(), 2 * coords.len());
+    if geometry.is_axisymmetric() {
+        let d = material.d_matrix_with_hoop();
+        for p in mapped_points(kind, coords, rule, geometry)? {
+            k += point_stiffness(&p, &d);
+        }
+        return Ok(k);
+    }
     let d = material.d_matrix();
     let d = DMatrix::from_fn(3, 3, |i, j| d[(i, j)]);
-    let mut k = DMatrix::zeros(2 * coords.len(), 2 * coords.len());
-    for p in mapped_points(kind, coords, rule)? {
+    for p in mapped_points(kind, coords, rule, geometry)? {
         let b = b_matrix(&p.dn_dx);
         k += b.transpose() * &d * &b * p.weight;
     }
@@ -249,9 +314,10 @@ pub fn body_force(
     coords: &[[f64; 2]],
     b: [f64; 2],
     rule: Integration,
+    geometry: Geometry,
 ) -> Result<DVector<f64>, BadJacobian> {
     let mut f = DVector::zeros(2 * coords.len());
-    for p in mapped_points(kind, coords, rule)? {
+    for p in mapped_points(kind, coords, rule, geometry)? {
         for (i, ni) in p.n.iter().enumerate() {
             f[2 * i] += ni * b[0] * p.weight;
             f[2 * i + 1] += ni * b[1] * p.weight;
@@ -284,7 +350,7 @@ pub fn stresses(
     let d = material.d_matrix();
     let u = DVector::from_column_slice(u_e);
     let mut out = Vec::new();
-    for p in mapped_points(kind, coords, rule)? {
+    for p in mapped_points(kind, coords, rule, Geometry::PlaneStrain)? {
         let eps = b_matrix(&p.dn_dx) * &u;
         let s = d * nalgebra::Vector3::new(eps[0], eps[1], eps[2]);
         out.push(GaussStress {
@@ -307,8 +373,15 @@ pub fn side_shape(node_count: usize, s: f64) -> (Vec<f64>, Vec<f64>) {
 
 /// Consistent nodal forces of a uniform traction on one element side. `pressure` acts against the
 /// outward normal; `shear` acts along a → b. `outward_sign` is +1 when the outward normal is the
-/// right-hand normal of a → b (the element lies to the left), −1 otherwise.
-pub fn side_traction(coords: &[[f64; 2]], pressure: f64, shear: f64, outward_sign: f64) -> Vec<f64> {
+/// right-hand normal of a → b (the element lies to the left), −1 otherwise. In axisymmetry the
+/// side is a surface of revolution and the forces are its totals (∫ N·t·2πr ds).
+pub fn side_traction(
+    coords: &[[f64; 2]],
+    pressure: f64,
+    shear: f64,
+    outward_sign: f64,
+    geometry: Geometry,
+) -> Vec<f64> {
     let g = (0.6f64).sqrt();
     let rule = [(-g, 5.0 / 9.0), (0.0, 8.0 / 9.0), (g, 5.0 / 9.0)];
     let mut f = vec![0.0; 2 * coords.len()];
@@ -323,6 +396,13 @@ pub fn side_traction(coords: &[[f64; 2]], pressure: f64, shear: f64, outward_sig
         let t = [dx[0], dx[1]];
         let outward = [outward_sign * dx[1], -outward_sign * dx[0]];
         let traction = [-pressure * outward[0] + shear * t[0], -pressure * outward[1] + shear * t[1]];
+        let w = match geometry {
+            Geometry::PlaneStrain => w,
+            Geometry::Axisymmetric => {
+                let r: f64 = n.iter().zip(coords).map(|(ni, c)| ni * c[0]).sum();
+                w * geometry.circumference([r, 0.0])
+            }
+        };
         for (i, ni) in n.iter().enumerate() {
             f[2 * i] += ni * traction[0] * w;
             f[2 * i + 1] += ni * traction[1] * w;
@@ -388,7 +468,8 @@ mod tests {
         let mut k = DMatrix::zeros(n, n);
         for c in cells {
             let coords: Vec<_> = c.iter().map(|&i| x[i]).collect();
-            let ke = stiffness(kind, &coords, &MATERIAL, Integration::Full).expect("patch elements are valid");
+            let ke = stiffness(kind, &coords, &MATERIAL, Integration::Full, Geometry::PlaneStrain)
+                .expect("patch elements are valid");
             for (a, &ia) in c.iter().enumerate() {
                 for (b, &ib) in c.iter().enumerate() {
                     for p in 0..2 {
@@ -496,16 +577,16 @@ mod tests {
     #[test]
     fn clockwise_element_is_rejected() {
         let coords = [[0.0, 0.0], [0.0, 1.0], [1.0, 0.0]];
-        assert!(stiffness(SolidKind::Tri3, &coords, &MATERIAL, Integration::Full).is_err());
+        assert!(stiffness(SolidKind::Tri3, &coords, &MATERIAL, Integration::Full, Geometry::PlaneStrain).is_err());
     }
 
     #[test]
     fn uniform_pressure_on_a_side_sums_to_pressure_times_length() {
         // side from (0,0) to (2,0), element above (to the left): outward normal is −y, so a
         // pressure of 3 pushes +y with total 6.
-        let f = side_traction(&[[0.0, 0.0], [2.0, 0.0]], 3.0, 0.0, 1.0);
+        let f = side_traction(&[[0.0, 0.0], [2.0, 0.0]], 3.0, 0.0, 1.0, Geometry::PlaneStrain);
         assert!((f[1] + f[3] - 6.0).abs() < 1e-12 && (f[0] + f[2]).abs() < 1e-12);
-        let f = side_traction(&[[0.0, 0.0], [2.0, 0.0], [1.0, 0.0]], 3.0, 0.0, 1.0);
+        let f = side_traction(&[[0.0, 0.0], [2.0, 0.0], [1.0, 0.0]], 3.0, 0.0, 1.0, Geometry::PlaneStrain);
         assert!((f[1] - 1.0).abs() < 1e-12 && (f[3] - 1.0).abs() < 1e-12 && (f[5] - 4.0).abs() < 1e-12);
     }
 }

@@ -63,7 +63,8 @@ pub struct ContactPoint {
     pub slave: NodeIndex,
     /// Slip direction: unit tangent of the slave line, pointing towards its first node.
     pub tangent: [f64; 2],
-    /// Tributary length ℓ of the point along the slave line [length].
+    /// Tributary length ℓ of the point along the slave line [length]; in axisymmetry its area
+    /// ∫N·2πr ds [length²], so that λ/ℓ is still a stress and τ·ℓ a force.
     pub tributary: f64,
     /// Master segment index (into the face's master path) and parameter ξ ∈ [0, 1] on it.
     pub segment: usize,
@@ -373,7 +374,8 @@ pub(crate) fn unit(a: [f64; 2]) -> [f64; 2] {
     [a[0] / l, a[1] / l]
 }
 
-/// Slip directions (towards the first node) and tributary lengths of a slave line.
+/// Slip directions (towards the first node) and tributary lengths of a slave line (areas ∫N·2πr ds
+/// in axisymmetry).
 fn slave_line_geometry(mesh: &Mesh, line: &[NodeIndex]) -> Vec<([f64; 2], f64)> {
     let m = line.len();
     (0..m)
@@ -390,7 +392,16 @@ fn slave_line_geometry(mesh: &Mesh, line: &[NodeIndex]) -> Vec<([f64; 2], f64)> 
                 (None, Some(n)) => unit(n),
                 (None, None) => [1.0, 0.0],
             };
-            (dir, 0.5 * (len(prev) + len(next)))
+            let tributary = if mesh.geometry.is_axisymmetric() {
+                // ∫ N_k·2πr ds over the two segments, r linear along each
+                let c = |j: usize| mesh.geometry.circumference(mesh.position(line[j]));
+                let before = if k > 0 { len(prev) * (c(k - 1) / 6.0 + c(k) / 3.0) } else { 0.0 };
+                let after = if k + 1 < m { len(next) * (c(k) / 3.0 + c(k + 1) / 6.0) } else { 0.0 };
+                before + after
+            } else {
+                0.5 * (len(prev) + len(next))
+            };
+            (dir, tributary)
         })
         .collect()
 }

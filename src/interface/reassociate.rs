@@ -322,8 +322,11 @@ fn clip_face_tributaries(mesh: &Mesh, face: &mut ContactFace, u: &[f64], arcs: &
             let (lo, hi) = (ea.min(eb).clamp(0.0, 1.0), ea.max(eb).clamp(0.0, 1.0));
             (lo, hi)
         };
-        let w_far = 0.5 * (e1 * e1 - e0 * e0); // ∫ η dη
-        let w_near = (e1 - e0) - w_far; // ∫ (1 − η) dη
+        // the circumference (1 in plane strain, 2πr in axisymmetry) is linear along the segment:
+        // c(η) = ca + (cb − ca)·η
+        let (ca, cb) = (mesh.geometry.circumference(xa), mesh.geometry.circumference(xb));
+        let w_far = ca * (e1 * e1 - e0 * e0) / 2.0 + (cb - ca) * (e1 * e1 * e1 - e0 * e0 * e0) / 3.0; // ∫ η c dη
+        let w_near = ca * (e1 - e0) + (cb - ca) * (e1 * e1 - e0 * e0) / 2.0 - w_far; // ∫ (1 − η) c dη
         tributary[k] += w_near * length;
         tributary[k + 1] += w_far * length;
     }

@@ -11,6 +11,7 @@ use std::collections::BTreeMap;
 
 // Types the core defines and the file format uses as they are.
 pub use crate::dofs::Direction;
+pub use crate::element::geometry::Geometry;
 pub use crate::element::solid::SolidKind;
 
 /// A complete geoslip model.
@@ -119,6 +120,9 @@ pub struct AnalysisSettings {
     /// Integrate quad8 elements with 2×2 Gauss points instead of 3×3 (the usual choice for collapse
     /// loads of nearly incompressible plastic flow, e.g. undrained bearing capacity).
     pub reduced_integration: bool,
+    /// `plane-strain` (per metre width) or `axisymmetric` (x = r ≥ 0 about the y axis; forces are
+    /// totals over the circumference).
+    pub geometry: Geometry,
 }
 
 impl Default for AnalysisSettings {
@@ -133,6 +137,7 @@ impl Default for AnalysisSettings {
             freeze_normal_stress: false,
             reserved_segments: 2,
             reduced_integration: false,
+            geometry: Geometry::PlaneStrain,
         }
     }
 }

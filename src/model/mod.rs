@@ -394,7 +394,7 @@ impl Model {
 
     /// Unit labels for output headers.
     pub fn unit_labels(&self) -> UnitLabels {
-        UnitLabels::new(&self.units)
+        UnitLabels::new(&self.units, self.mesh.geometry)
     }
 }
 
@@ -604,13 +604,14 @@ fn shorten_lines(message: &str) -> String {
 pub struct UnitLabels {
     pub length: &'static str,
     pub force: &'static str,
-    /// force per metre width (line load, bar force, multiplier)
+    /// force per metre width (line load, bar force, multiplier) in plane strain; in axisymmetry a
+    /// total force over the circumference (a nail's pull, a ring's reaction)
     pub force_per_width: String,
     pub stress: String,
 }
 
 impl UnitLabels {
-    pub fn new(units: &Units) -> Self {
+    pub fn new(units: &Units, geometry: crate::element::geometry::Geometry) -> Self {
         use file::{ForceUnit::*, LengthUnit::*};
         let length = match units.length {
             Metre => "m",
@@ -627,7 +628,7 @@ impl UnitLabels {
             (Meganewton, Metre) | (Newton, Millimetre) => "MPa".to_string(),
             (f, l) => format!("{}/{}^2", UnitLabels::force_name(f), UnitLabels::length_name(l)),
         };
-        UnitLabels { length, force, force_per_width: format!("{force}/{length}"), stress }
+        UnitLabels { length, force, force_per_width: geometry.force_unit(force, length), stress }
     }
 
     fn force_name(f: file::ForceUnit) -> &'static str {

@@ -454,7 +454,9 @@ impl ResultWriter {
                 solver: solver.into(),
                 units: serde_json::json!({
                     "length": units.length, "force": units.force,
-                    "force_per_width": units.force_per_width, "stress": units.stress }),
+                    "force_per_width": units.force_per_width, "stress": units.stress,
+                    "geometry": model.mesh.geometry,
+                    "forces": if model.mesh.geometry.is_axisymmetric() { "total over the circumference" } else { "per metre width" } }),
                 unknowns: Unknowns {
                     nodes: model.mesh.nodes.len(),
                     soil_elements: model.mesh.solids.len(),

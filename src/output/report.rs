@@ -53,6 +53,18 @@ fn model_section(r: &mut String, model: &Model, summary: &RunSummary, units: &cr
         summary.error.as_ref().map(|e| format!(": {e}")).unwrap_or_default()
     );
     let _ = writeln!(r, "- Units: length {}, force {}, stress {}", units.length, units.force, units.stress);
+    let _ = writeln!(
+        r,
+        "- Geometry: {}",
+        if model.mesh.geometry.is_axisymmetric() {
+            format!(
+                "**axisymmetric** about x = 0 (x = r, y = z, the fourth stress σzz is the hoop stress σθ): forces, reactions, bar forces and multipliers are totals over the whole circumference [{}], not per radian",
+                units.force
+            )
+        } else {
+            format!("plane strain: forces per metre width [{}]", units.force_per_width)
+        }
+    );
     let _ = writeln!(r, "- Wall time: {:.2} s", summary.total_seconds);
 
     let _ = writeln!(r, "\n## Model\n");

@@ -101,7 +101,17 @@ pub(super) fn check_free_bodies(
                     .collect()
             })
             .unwrap_or_default();
-        let free = free_rigid_modes(&rows, mesh.characteristic_length());
+        // a body of revolution cannot move radially or rotate without straining its hoops: only a
+        // translation along the axis is free
+        let free = if mesh.geometry.is_axisymmetric() {
+            if rows.iter().any(|r| r[1] != 0.0) {
+                Vec::new()
+            } else {
+                vec!["translate along the axis (y)"]
+            }
+        } else {
+            free_rigid_modes(&rows, mesh.characteristic_length())
+        };
         if !free.is_empty() {
             let mut ids: Vec<u64> = nodes.iter().map(|&i| mesh.node_id(i)).collect();
             ids.sort_unstable();

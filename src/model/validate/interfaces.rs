@@ -110,6 +110,13 @@ pub(super) fn interfaces(d: &mut Draft, file: &ModelFile, p: &mut Problems) {
                         );
                     }
                 }
+                if spec.bearing.is_some() && file.analysis.geometry.is_axisymmetric() {
+                    p.push(
+                        format!("{field}.bearing"),
+                        &entity,
+                        "passive bearing is that of a geogrid's transverse members, which an axisymmetric model cannot have: leave it out, or count the bearing of a nail's ribs or an anchor's bulb in the shaft's law",
+                    );
+                }
                 if spec.bearing.is_some() && !r.stack.is_empty() {
                     p.push(
                         format!("{field}.bearing"),

@@ -1,6 +1,7 @@
 //! The mesh as the file lists it: nodes, soil elements (with their Jacobians) and hand-made bars.
 
 use super::Draft;
+use crate::element::geometry::Geometry;
 use crate::element::solid::{mapped_points, BadJacobian, Integration};
 use crate::mesh::{Bar, Solid};
 use crate::model::file::*;
@@ -11,6 +12,10 @@ use std::collections::HashSet;
 /// cannot give ids a TOML file cannot, and the ids added after the largest one (the nodes and bars
 /// of a split reinforcement) cannot overflow.
 pub(super) const MAX_ID: u64 = i64::MAX as u64;
+
+/// In an axisymmetric model, a node whose x is within this fraction of the model's largest
+/// coordinate of the axis is on the axis.
+pub(crate) const AXIS_TOLERANCE: f64 = 1e-9;
 
 /// Nodes, soil elements and bars (soil elements and bars share one id space).
 pub(super) fn mesh(d: &mut Draft, file: &ModelFile, p: &mut Problems) {
@@ -32,6 +37,25 @@ pub(super) fn mesh(d: &mut Draft, file: &ModelFile, p: &mut Problems) {
             *mesh_ok = false;
         }
         mesh.add_node(*id, [*x, *y]);
+    }
+    mesh.geometry = file.analysis.geometry;
+    if mesh.geometry.is_axisymmetric() {
+        // x is the radius: nothing may lie on the other side of the axis (a node within round-off
+        // of it is on the axis, and its radial displacement is held there)
+        let tol = AXIS_TOLERANCE * file.nodes.iter().fold(0.0f64, |m, NodeRow(_, x, y)| m.max(x.abs()).max(y.abs()));
+        for (k, NodeRow(id, x, _)) in file.nodes.iter().enumerate() {
+            if *x < -tol {
+                p.push(
+                    format!("nodes[{k}]"),
+                    format!("node {id}"),
+                    format!(
+                        "x is the radius in an axisymmetric model (analysis.geometry) and must be ≥ 0, found {x}: \
+                         draw the body on the positive side of the axis x = 0"
+                    ),
+                );
+                *mesh_ok = false;
+            }
+        }
     }
 
     // Soil elements and bars share one id space.
@@ -77,10 +101,10 @@ pub(super) fn mesh(d: &mut Draft, file: &ModelFile, p: &mut Problems) {
         if p.len() == before && finite {
             // every rule the run integrates with: the full one, and the 2×2 one of quad8 elements
             // under reduced integration
-            let full = mapped_points(e.kind, &coords, Integration::Full).err();
+            let full = mapped_points(e.kind, &coords, Integration::Full, Geometry::PlaneStrain).err();
             let reduced = file.analysis.reduced_integration && full.is_none();
             let bad = match full {
-                None if reduced => mapped_points(e.kind, &coords, Integration::Reduced).err(),
+                None if reduced => mapped_points(e.kind, &coords, Integration::Reduced, Geometry::PlaneStrain).err(),
                 full => full,
             };
             if let Some(BadJacobian { det }) = bad {

@@ -102,6 +102,13 @@ fn analysis_settings(file: &ModelFile, p: &mut Problems) {
             p.push(format!("analysis.{name}"), None, format!("must be in [{low}, {high}], found {value}"));
         }
     }
+    if a.geometry == Geometry::Axisymmetric && a.reassociation == ReassociationRule::Mortar {
+        p.push(
+            "analysis.reassociation",
+            None,
+            "mortar ties are not yet weighted by the radius in an axisymmetric model: use `segment` (the default) or `nearest-node`",
+        );
+    }
 }
 
 /// The most equilibrium iterations an increment may be given.

@@ -69,6 +69,16 @@ pub(super) fn supports(d: &mut Draft, file: &ModelFile, p: &mut Problems) {
             }
         }
     }
+    // on the axis of an axisymmetric body the radial displacement is zero by symmetry
+    if d.mesh.geometry.is_axisymmetric() {
+        let tol = super::mesh::AXIS_TOLERANCE
+            * d.mesh.nodes.iter().fold(0.0f64, |m, n| m.max(n.x[0].abs()).max(n.x[1].abs()));
+        for n in 0..d.mesh.nodes.len() {
+            if d.mesh.nodes[n].x[0].abs() <= tol && d.supported.insert((n, Direction::X)) {
+                d.supports.push((n, Direction::X));
+            }
+        }
+    }
 }
 
 /// Names what a support, load or prescribed displacement targets, as written: `node 3`,
