@@ -177,6 +177,10 @@ pub enum Error {
     },
     #[error("{path}: cannot write output: {source}")]
     Write { path: PathBuf, source: std::io::Error },
+    /// A saved step that a run cannot continue from: missing, unreadable, or saved with a model
+    /// that differs where the saved state depends on it.
+    #[error("{path}: cannot continue from it: {message}")]
+    Restart { path: PathBuf, message: String },
     /// The program driving the run asked it to stop (Ctrl-C from Python): the steps before are
     /// complete and kept.
     #[error("{}: stopped after {steps} completed steps: {reason}", .file.display())]

@@ -259,3 +259,47 @@ fn calibrate_fits_the_example_and_writes_the_law_to_paste() {
     let message = String::from_utf8_lossy(&refused.stderr);
     assert!(message.contains("c.toml: law: the peak-residual law drops at once"), "{message}");
 }
+
+/// `run --restart RESULTS --from STAGE:STEP` (docs/model-format.md, "Continuing a run"): the
+/// continued run's history is the straight run's from the step after STAGE:STEP on, as the same
+/// text; a missing step, a changed model and the results folder itself as `--out` are refused with
+/// exit code 2, naming the file.
+#[test]
+fn a_run_continues_from_a_saved_step() {
+    let dir = tempfile::tempdir().unwrap();
+    let (straight, continued) = (dir.path().join("straight"), dir.path().join("continued"));
+    let status =
+        geoslip().args(["run", "-q", "--solver", "faer", "--out"]).arg(&straight).arg(example()).status().unwrap();
+    assert!(status.success());
+    assert!(straight.join("restart/stage-2-step-00002.bin").is_file(), "no saved steps in restart/");
+    let run = |from: &str, out: &Path| {
+        geoslip()
+            .args(["run", "-q", "--solver", "faer", "--restart"])
+            .arg(&straight)
+            .args(["--from", from, "--out"])
+            .arg(out)
+            .arg(example())
+            .output()
+            .unwrap()
+    };
+    let done = run("2:2", &continued);
+    assert!(done.status.success(), "{}", String::from_utf8_lossy(&done.stderr));
+    let history = |d: &Path| std::fs::read_to_string(d.join("history.csv")).unwrap();
+    let (a, b) = (history(&straight), history(&continued));
+    let rows_a: Vec<&str> = a.lines().collect();
+    let rows_b: Vec<&str> = b.lines().collect();
+    // the header, then the straight run's rows after stage 2 step 2 (one stage-1 step, two of stage 2)
+    assert_eq!(rows_b[0], rows_a[0]);
+    assert_eq!(&rows_b[1..], &rows_a[4..], "the continued history differs from the straight run's");
+    let report = std::fs::read_to_string(continued.join("report.md")).unwrap();
+    assert!(report.contains("continued from step 2 of stage"), "{report}");
+
+    let missing = run("2:99", &dir.path().join("missing"));
+    assert_eq!(missing.status.code(), Some(2));
+    let message = String::from_utf8_lossy(&missing.stderr);
+    assert!(message.contains("stage-2-step-00099.bin") && message.contains("no saved step 2:99"), "{message}");
+
+    let itself = run("2:2", &straight);
+    assert_eq!(itself.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&itself.stderr).contains("would replace these results"));
+}

@@ -32,6 +32,7 @@
 //! segment it now faces. Held DOFs (supports and prescribed displacements) are eliminated; their
 //! reactions come from the same residual.
 
+pub mod checkpoint;
 mod condensation;
 mod context;
 mod convergence;
@@ -49,6 +50,7 @@ mod stage;
 mod state;
 mod strength_reduction;
 
+pub use checkpoint::{Checkpoint, ResumeRefusal};
 pub use context::model_memory_estimate_mb;
 pub use equilibrium::{first_system, IterationSystem};
 pub use loads::external_force;
@@ -70,15 +72,43 @@ use context::Context;
 pub fn run(model: &Model, options: &RunOptions, sink: &mut dyn StepSink) -> Result<SolverStats, Error> {
     let mut cx = Context::new(model, options)?;
     let mut state = State::initial(model, options);
-    for (index, plan) in model.stages.iter().enumerate() {
-        let mut stage = stage::set_up(&mut cx, &mut state, plan, index);
+    stages_from(&mut cx, &mut state, 0, sink)?;
+    Ok(cx.system.stats)
+}
+
+/// Continue a run from a saved step (a [`Checkpoint`] that [`Checkpoint::fits`] the model): the rest
+/// of its stage, then the model's later stages, which may differ from those of the run that saved
+/// it. The steps are those the uninterrupted run would have made.
+///
+/// # Errors
+/// As [`run`]; the checkpoint is not checked here.
+pub fn resume(
+    model: &Model,
+    options: &RunOptions,
+    checkpoint: Checkpoint,
+    sink: &mut dyn StepSink,
+) -> Result<SolverStats, Error> {
+    let mut cx = Context::new(model, options)?;
+    let Checkpoint { stage_index, step, mut state, held, gravity, applied_weight, progress, .. } = checkpoint;
+    (cx.held, cx.gravity, cx.applied_weight) = (held, gravity, applied_weight);
+    let mut stage = stage::resumed(&cx, &state, &model.stages[stage_index], stage_index, &progress);
+    stage::increments(&mut cx, &mut state, &mut stage, sink, Some((&progress, step)))?;
+    stages_from(&mut cx, &mut state, stage_index + 1, sink)?;
+    Ok(cx.system.stats)
+}
+
+/// Every stage from `first` on: its set-up, then its increments or its strength-reduction search.
+fn stages_from(cx: &mut Context, state: &mut State, first: usize, sink: &mut dyn StepSink) -> Result<(), Error> {
+    let model = cx.model;
+    for (index, plan) in model.stages.iter().enumerate().skip(first) {
+        let mut stage = stage::set_up(cx, state, plan, index);
         match plan.strength_reduction {
             Some(reduction) => {
-                let fs = strength_reduction::search(&mut cx, &mut state, &mut stage, reduction, sink)?;
+                let fs = strength_reduction::search(cx, state, &mut stage, reduction, sink)?;
                 sink.factor_of_safety(&fs)?;
             }
-            None => stage::increments(&mut cx, &mut state, &mut stage, sink)?,
+            None => stage::increments(cx, state, &mut stage, sink, None)?,
         }
     }
-    Ok(cx.system.stats)
+    Ok(())
 }

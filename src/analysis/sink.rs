@@ -1,6 +1,7 @@
 //! What a run hands out as it goes: each converged step (its results and its record) and each
 //! factor of safety, to a [`StepSink`] that writes or keeps them.
 
+use super::checkpoint::Checkpoint;
 use super::results::{ReinforcementBalance, StepResults};
 use crate::error::Error;
 use crate::interface::reassociate::Reassociation;
@@ -12,6 +13,17 @@ pub trait StepSink {
 
     /// The result of a strength-reduction stage, after its last step.
     fn factor_of_safety(&mut self, _fs: &FactorOfSafety) -> Result<(), Error> {
+        Ok(())
+    }
+
+    /// Whether the sink keeps what a run needs to continue from each step (the run builds the
+    /// checkpoints only then).
+    fn keeps_checkpoints(&self) -> bool {
+        false
+    }
+
+    /// What the run needs to continue from the step just handed over (after `step_done`).
+    fn checkpoint(&mut self, _checkpoint: &Checkpoint) -> Result<(), Error> {
         Ok(())
     }
 }

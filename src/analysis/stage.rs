@@ -2,6 +2,7 @@
 //! loads), then its increments, each cut back when it fails, and each converged one committed and
 //! handed to the sink.
 
+use super::checkpoint::{Checkpoint, ModelPrint, StageProgress};
 use super::context::Context;
 use super::equilibrium::IncrementReport;
 use super::loads::external_force;
@@ -101,29 +102,54 @@ pub fn set_up<'a>(cx: &mut Context, state: &mut State, plan: &'a StagePlan, inde
     Stage { plan, index, dofs, redundant, force, f_ext_start, unbalance }
 }
 
+/// A stage set up again from a saved step's progress: its DOFs from the saved state, the rest as
+/// its set-up left it then.
+pub fn resumed<'a>(
+    cx: &Context,
+    state: &State,
+    plan: &'a StagePlan,
+    index: usize,
+    progress: &StageProgress,
+) -> Stage<'a> {
+    let stage_held = with_absent_nodes(cx.model, &state.soil, &state.bars, &cx.held);
+    let dofs = DofMap::new(cx.model.mesh.nodes.len(), &stage_held, &state.interfaces);
+    Stage {
+        plan,
+        index,
+        dofs,
+        redundant: progress.redundant.clone(),
+        force: progress.force.clone(),
+        f_ext_start: progress.f_ext_start.clone(),
+        unbalance: progress.unbalance.clone(),
+    }
+}
+
 /// The stage's increments: each target load factor in turn; a failed increment is cut back (its
-/// midpoint put in front, the state restored) up to `max_cutbacks` times.
+/// midpoint put in front, the state restored) up to `max_cutbacks` times. `resume` continues the
+/// stage from a saved step (its progress and converged step count) instead of its start.
 pub fn increments(
     cx: &mut Context,
     state: &mut State,
     stage: &mut Stage,
     sink: &mut dyn StepSink,
+    resume: Option<(&StageProgress, usize)>,
 ) -> Result<(), Error> {
     let (model, plan) = (cx.model, stage.plan);
-    let u_start = state.u.clone();
-    let freeze = plan.freeze_normal_stress.unwrap_or(cx.options.analysis.freeze_normal_stress);
-    state.frozen_sigma_n = None;
-    if freeze {
-        let rows = InterfaceRows::new(&model.mesh, &state.interfaces, &stage.dofs.multipliers);
-        let frozen: Vec<f64> = rows.springs.iter().map(|s| normal_stress(model, state, &rows, s)).collect();
-        warn_of_unloaded_freeze(cx, state, plan, &rows, &frozen);
-        state.frozen_sigma_n = Some(frozen);
-    }
-    let mut targets: Vec<f64> = plan.load_factors.clone();
-    let mut reached = 0.0;
-    let mut step = 0;
-    let mut planned = 0;
-    let mut cutbacks = 0;
+    let (u_start, mut targets, mut reached, mut step, mut planned, mut cutbacks) = match resume {
+        Some((p, step)) => (p.u_start.clone(), p.targets.clone(), p.reached, step, p.planned, p.cutbacks),
+        None => {
+            let freeze = plan.freeze_normal_stress.unwrap_or(cx.options.analysis.freeze_normal_stress);
+            state.frozen_sigma_n = None;
+            if freeze {
+                let rows = InterfaceRows::new(&model.mesh, &state.interfaces, &stage.dofs.multipliers);
+                let frozen: Vec<f64> = rows.springs.iter().map(|s| normal_stress(model, state, &rows, s)).collect();
+                warn_of_unloaded_freeze(cx, state, plan, &rows, &frozen);
+                state.frozen_sigma_n = Some(frozen);
+            }
+            (state.u.clone(), plan.load_factors.clone(), 0.0, 0, 0, 0)
+        }
+    };
+    let print = sink.keeps_checkpoints().then(|| ModelPrint::of(model));
     while let Some(&target) = targets.first() {
         let started = Instant::now();
         let snapshot = state.clone();
@@ -161,6 +187,31 @@ pub fn increments(
         reached = target;
         if planned_step {
             cutbacks = 0;
+        }
+        if let Some(print) = &print {
+            let progress = StageProgress {
+                redundant: stage.redundant.clone(),
+                force: stage.force.clone(),
+                f_ext_start: stage.f_ext_start.clone(),
+                unbalance: stage.unbalance.clone(),
+                u_start: u_start.clone(),
+                targets: targets.clone(),
+                reached,
+                planned,
+                cutbacks,
+            };
+            sink.checkpoint(&Checkpoint {
+                geoslip_version: env!("CARGO_PKG_VERSION").into(),
+                model: print.clone(),
+                stage_index: stage.index,
+                stage: plan.name.clone(),
+                step,
+                state: state.clone(),
+                held: cx.held.clone(),
+                gravity: cx.gravity,
+                applied_weight: cx.applied_weight.clone(),
+                progress,
+            })?;
         }
     }
     Ok(())

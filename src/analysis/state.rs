@@ -8,7 +8,7 @@ use crate::interface::{multipliers, reserve_windows, Interface};
 use crate::model::{Model, ReassociationRule};
 
 /// The state carried from step to step.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct State {
     /// Displacements of every node, `2·node + d`.
     pub u: Vec<f64>,

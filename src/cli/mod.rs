@@ -47,7 +47,7 @@ mod exit {
 fn exit_code(e: &crate::Error) -> ExitCode {
     use crate::Error::*;
     ExitCode::from(match e {
-        Read { .. } | Parse { .. } | Model(_) => exit::BAD_INPUT,
+        Read { .. } | Parse { .. } | Model(_) | Restart { .. } => exit::BAD_INPUT,
         NotConverged { .. } | NonFinite { .. } => exit::NOT_CONVERGED,
         Solve { .. } | Backend(_) => exit::SOLVER,
         Write { .. } => exit::WRITE,
@@ -103,6 +103,19 @@ enum Command {
         /// without the hdf5 feature writes them in any case).
         #[arg(long)]
         vtu: bool,
+        /// Continue the run whose results are in this folder, from the saved step --from, instead of
+        /// starting over: the same model, or one with stages added after that step or the later ones
+        /// changed (a changed mesh, material, interface, support or earlier stage is refused).
+        #[arg(long, value_name = "RESULTS", requires = "from")]
+        restart: Option<PathBuf>,
+        /// The saved step to continue from: STAGE:STEP, the stage by its name or number from 1 and
+        /// a converged step of it (as numbered in the history and the report).
+        #[arg(long, value_name = "STAGE:STEP", requires = "restart")]
+        from: Option<crate::output::checkpoints::From>,
+        /// Do not save the steps a run can continue from (restart/ in the output folder): their disk
+        /// space for the ability to continue.
+        #[arg(long)]
+        no_restart: bool,
     },
     /// Check a model and list every problem found. It runs no other program: a mesh given as a .geo
     /// script is read (and refused if it runs programs or writes files) but meshed only with --mesh.
@@ -266,12 +279,16 @@ fn command_line() -> ExitCode {
             csv,
             keep,
             vtu,
+            restart,
+            from,
+            no_restart,
         } => {
             let options =
                 SolverOptions { ordering, out_of_core, memory_limit_mb: memory_limit, condense: !full_system };
             let load = LoadOptions { trust_geo, memory_limit_mb: memory_limit };
-            let output = OutputOptions { csv, keep, vtu };
-            match run(&model, load, solver, &options, &output, out, Verbosity::of(&cli_flags)) {
+            let output = OutputOptions { csv, keep, vtu, no_restart };
+            let restart = restart.zip(from);
+            match run(&model, load, solver, &options, &output, out, restart, Verbosity::of(&cli_flags)) {
                 Ok(()) => ExitCode::SUCCESS,
                 Err(e) => {
                     eprintln!("error: {e}");
@@ -353,6 +370,7 @@ fn run(
     options: &SolverOptions,
     output: &OutputOptions,
     out: Option<PathBuf>,
+    restart: Option<(PathBuf, crate::output::checkpoints::From)>,
     verbosity: Verbosity,
 ) -> Result<(), crate::Error> {
     crate::linsol::check_available(solver)?;
@@ -361,9 +379,33 @@ fn run(
         PathBuf::from("results").join(path.file_stem().map(|s| s.to_os_string()).unwrap_or_else(|| "model".into()))
     });
     let [case @ Case { label: None, .. }] = cases.as_slice() else {
+        if let Some((results, _)) = restart {
+            let message = "a test series is several runs, each with its own folder: continue one of them with a model file of that run alone".to_string();
+            return Err(crate::Error::Restart { path: results, message });
+        }
         return run_series(path, &cases, solver, options, output, &out, verbosity);
     };
-    run_case(path, &*case.model()?, solver, options, output, &out, verbosity, &mut Vec::new())
+    let model = case.model()?;
+    let from = match restart {
+        None => None,
+        Some((results, from)) => {
+            let same = |a: &std::path::Path, b: &std::path::Path| {
+                a.canonicalize().ok().is_some_and(|a| b.canonicalize().ok().is_some_and(|b| a == b))
+            };
+            if same(&results, &out) {
+                let message = format!(
+                    "the continued run would replace these results, saved steps and all: write it to another folder (--out {}-from-{}-{})",
+                    out.display(),
+                    crate::output::path_component(&from.stage),
+                    from.step
+                );
+                return Err(crate::Error::Restart { path: results, message });
+            }
+            let checkpoint = crate::output::checkpoints::read(&results, &from, &model)?;
+            Some((checkpoint, results))
+        }
+    };
+    run_case(path, &model, solver, options, output, &out, from, verbosity, &mut Vec::new())
 }
 
 /// Each run of a series in a folder of its own, then `series.csv`, the envelope plot and the report.
@@ -396,14 +438,15 @@ fn run_series(
         }
         let mut peaks = Vec::new();
         let model = case.model()?;
-        let error = match run_case(path, &*model, solver, options, output, &out.join(&folder), verbosity, &mut peaks) {
-            Ok(()) => None,
-            Err(e) => {
-                let message = e.to_string();
-                first_error.get_or_insert(e);
-                Some(message)
-            }
-        };
+        let error =
+            match run_case(path, &*model, solver, options, output, &out.join(&folder), None, verbosity, &mut peaks) {
+                Ok(()) => None,
+                Err(e) => {
+                    let message = e.to_string();
+                    first_error.get_or_insert(e);
+                    Some(message)
+                }
+            };
         if pullout.is_none() {
             pullout = PulloutReference::of(&*model, &peaks);
         }
@@ -441,6 +484,7 @@ fn run_case(
     solver_options: &SolverOptions,
     output: &OutputOptions,
     out: &std::path::Path,
+    from: Option<(crate::analysis::Checkpoint, PathBuf)>,
     verbosity: Verbosity,
     peaks: &mut Vec<crate::output::TargetPeak>,
 ) -> Result<(), crate::Error> {
@@ -472,7 +516,7 @@ fn run_case(
             .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
     );
     let mut progress = Progress { bar: bar.clone(), verbosity };
-    let result = crate::output::write_run(model, &options, &mut writer, &mut progress);
+    let result = crate::output::write_run_from(model, &options, from, &mut writer, &mut progress);
     bar.finish_and_clear();
     *peaks = writer.peak_reactions();
     match result {

@@ -53,7 +53,7 @@ pub struct BarLaw {
 
 /// The state of every bar (in mesh order): ruptured, not yet placed, and the stretch it had when it
 /// was placed (its force counts from there).
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone, Default, serde::Serialize, serde::Deserialize)]
 pub struct BarStates {
     pub ruptured: Vec<bool>,
     pub absent: Vec<bool>,

@@ -57,7 +57,7 @@ impl MohrCoulomb {
 }
 
 /// Where a stress point sits after its update.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
 pub enum YieldState {
     #[default]
     Elastic,

@@ -11,7 +11,7 @@ use super::mohr_coulomb::YieldState;
 use nalgebra::DMatrix;
 
 /// The state of one Gauss point.
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy, Default, serde::Serialize, serde::Deserialize)]
 pub struct PointState {
     /// Effective stress σ′xx, σ′yy, τxy, σ′zz; tension positive.
     pub stress: [f64; 4],
@@ -21,7 +21,7 @@ pub struct PointState {
 }
 
 /// The state of one soil element.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone, Default, serde::Serialize, serde::Deserialize)]
 pub struct ElementState {
     pub active: bool,
     /// Element displacements when the element was placed or given its initial stresses: its
@@ -39,7 +39,7 @@ pub struct ElementState {
 }
 
 /// Every soil element's state, and the water table in force.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone, Default, serde::Serialize, serde::Deserialize)]
 pub struct SoilField {
     pub elements: Vec<ElementState>,
     pub water: Option<WaterTable>,
@@ -47,7 +47,7 @@ pub struct SoilField {
 
 /// A phreatic line and the unit weight of water: hydrostatic pore pressure p = γw·(h(x) − y) below
 /// it, zero above.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct WaterTable {
     /// `[x, y]` points with x increasing (one point: a horizontal table).
     pub line: Vec<[f64; 2]>,

@@ -18,7 +18,7 @@
 //! plastic slip (it unloads with the same slope and bears again in the reversed direction).
 
 /// A face's bearing contribution.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Bearing {
     /// τb,max per unit σn′ on one face: αb·B·(σb/σn)/(2S).
     pub coefficient: f64,

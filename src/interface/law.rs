@@ -21,7 +21,7 @@
 //! strength).
 
 /// A tangential law with checked parameters. Angles are stored as tangents.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum ShearLaw {
     /// Multipliers in both directions: no slip.
     Tie,
@@ -57,7 +57,7 @@ pub enum ShearLaw {
 
 /// The history of one point's tangential law, carried from increment to increment (and across a
 /// re-association).
-#[derive(Debug, Clone, Default, PartialEq)]
+#[derive(Debug, Clone, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ShearState {
     /// Accumulated slip s.
     pub slip: f64,

@@ -24,7 +24,7 @@ pub use bearing::Bearing;
 pub use law::{ShearLaw, ShearResponse, ShearState};
 
 /// State of a point's normal constraint row.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum NormalState {
     /// The row holds the gap at zero.
     Active,
@@ -58,7 +58,7 @@ impl NormalState {
 }
 
 /// One slave point of one face.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct ContactPoint {
     pub slave: NodeIndex,
     /// Slip direction: unit tangent of the slave line, pointing towards its first node.
@@ -104,7 +104,7 @@ impl ContactPoint {
 }
 
 /// One face of an interface: a master path and the slave points pressed against it.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct ContactFace {
     /// `upper`, `lower` (a reinforcement's two faces) or `face` (a hand-made pair).
     pub label: String,
@@ -127,7 +127,7 @@ pub struct ContactFace {
 
 /// Dilatancy of a face: its normal tie holds the faces apart by min(tan ψ·κ, max), κ the plastic
 /// slip accumulated in either direction (the gap g = n·(x_r − Σ Nᵢxᵢ) is held at −opening).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Dilation {
     pub tan_angle: f64,
     pub max: f64,
@@ -144,7 +144,7 @@ impl Dilation {
 /// normally to a line inside one continuous soil, each stands for both faces of the reinforcement,
 /// and the shear law's σn is the soil's normal stress on the line there, not the row's multiplier
 /// (which only holds the reinforcement on the line, and is about zero).
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct Embedding {
     /// Per master segment: the soil elements either side of it, whose stress gives σn there.
     pub hosts: Vec<Vec<usize>>,
@@ -175,7 +175,7 @@ impl ContactFace {
     }
 }
 
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct Interface {
     pub name: String,
     pub faces: Vec<ContactFace>,

@@ -608,6 +608,8 @@ pub struct UnitLabels {
     /// total force over the circumference (a nail's pull, a ring's reaction)
     pub force_per_width: String,
     pub stress: String,
+    /// An interface point's tributary length (plane strain) or area (axisymmetry, ∫2πr ds).
+    pub tributary: String,
 }
 
 impl UnitLabels {
@@ -628,7 +630,8 @@ impl UnitLabels {
             (Meganewton, Metre) | (Newton, Millimetre) => "MPa".to_string(),
             (f, l) => format!("{}/{}^2", UnitLabels::force_name(f), UnitLabels::length_name(l)),
         };
-        UnitLabels { length, force, force_per_width: geometry.force_unit(force, length), stress }
+        let tributary = if geometry.is_axisymmetric() { format!("{length}^2") } else { length.to_string() };
+        UnitLabels { length, force, force_per_width: geometry.force_unit(force, length), stress, tributary }
     }
 
     fn force_name(f: file::ForceUnit) -> &'static str {

@@ -9,6 +9,7 @@
 //! soon as the step converges (a step held back by `--keep` as soon as it proves to be kept), and
 //! the summary is rewritten after every step: completed steps are never lost.
 
+pub mod checkpoints;
 pub mod grids;
 #[cfg(feature = "hdf5")]
 pub mod hdf5_thread;
@@ -72,6 +73,21 @@ pub fn write_run(
     writer: &mut ResultWriter,
     observe: &mut dyn StepSink,
 ) -> Result<f64, Error> {
+    write_run_from(model, options, None, writer, observe)
+}
+
+/// [`write_run`], or, given a saved step that fits the model ([`checkpoints::read`]), the run's
+/// continuation from it: the summary and the report then say where it continued from.
+///
+/// # Errors
+/// As [`write_run`].
+pub fn write_run_from(
+    model: &Model,
+    options: &crate::analysis::RunOptions,
+    from: Option<(crate::analysis::Checkpoint, PathBuf)>,
+    writer: &mut ResultWriter,
+    observe: &mut dyn StepSink,
+) -> Result<f64, Error> {
     struct Tee<'a> {
         writer: &'a mut ResultWriter,
         observe: &'a mut dyn StepSink,
@@ -85,9 +101,27 @@ pub fn write_run(
             self.writer.factor_of_safety(fs)?;
             self.observe.factor_of_safety(fs)
         }
+        fn keeps_checkpoints(&self) -> bool {
+            self.writer.keeps_checkpoints()
+        }
+        fn checkpoint(&mut self, checkpoint: &crate::analysis::Checkpoint) -> Result<(), Error> {
+            self.writer.checkpoint(checkpoint)
+        }
     }
     let started = std::time::Instant::now();
-    let result = crate::analysis::run(model, options, &mut Tee { writer: &mut *writer, observe });
+    let mut tee = Tee { writer: &mut *writer, observe };
+    let result = match from {
+        None => crate::analysis::run(model, options, &mut tee),
+        Some((checkpoint, path)) => {
+            tee.writer.summary.notes.push(format!(
+                "continued from step {} of stage \"{}\" as saved in {}: the steps up to it are in that run's results",
+                checkpoint.step,
+                checkpoint.stage,
+                path.display()
+            ));
+            crate::analysis::resume(model, options, checkpoint, &mut tee)
+        }
+    };
     let seconds = started.elapsed().as_secs_f64();
     match result {
         Ok(stats) => writer.finish(model, None, Some(stats), seconds)?,
@@ -170,10 +204,10 @@ fn remove_folder(path: &Path) -> Result<(), Error> {
     std::fs::remove_dir_all(&doomed).map_err(write_error(&doomed))
 }
 
-/// The folders a run writes in its output folder: one per stage (see `ResultWriter::step_dir`) and
-/// the ParaView parts (`vtk`).
+/// The folders a run writes in its output folder: one per stage (see `ResultWriter::step_dir`), the
+/// ParaView parts (`vtk`) and the saved steps (`restart`).
 fn is_run_folder(name: &str) -> bool {
-    name.starts_with("stage-") || name == "vtk"
+    name.starts_with("stage-") || name == "vtk" || name == checkpoints::FOLDER
 }
 
 /// The error of a failed write to `path`.
@@ -646,7 +680,7 @@ impl ResultWriter {
                     "master_b".into(),
                     "xi [-]".into(),
                     "state".into(),
-                    format!("tributary [{l}]"),
+                    format!("tributary [{}]", u.tributary),
                     format!("lambda [{f}]"),
                     format!("sigma_n [{s}]"),
                     format!("tau [{s}]"),
@@ -715,6 +749,14 @@ impl ResultWriter {
 }
 
 impl StepSink for ResultWriter {
+    fn keeps_checkpoints(&self) -> bool {
+        !self.options.no_restart
+    }
+
+    fn checkpoint(&mut self, checkpoint: &crate::analysis::Checkpoint) -> Result<(), Error> {
+        checkpoints::write(&self.out, checkpoint)
+    }
+
     fn factor_of_safety(&mut self, fs: &crate::analysis::FactorOfSafety) -> Result<(), Error> {
         let bracket = match (fs.failed_at, &fs.failure) {
             (Some(f), Some(why)) => format!("at F = {f:.4}: {why}"),

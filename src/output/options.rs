@@ -1,6 +1,7 @@
 //! What a run writes besides its history, summary, report and plots (which it always writes): the
 //! fields of the kept steps as `results.h5` + `results.xdmf` (a build with the `hdf5` feature) or
-//! as ParaView `.vtu` files (a build without it, or on request), and per-step CSV files on request.
+//! as ParaView `.vtu` files (a build without it, or on request), per-step CSV files on request, and
+//! the saved steps a run can continue from (unless left out).
 
 use super::kept_steps::KeptSteps;
 
@@ -14,6 +15,9 @@ pub struct OutputOptions {
     /// The ParaView `.vtu` files and `results.pvd` beside `results.h5`/`.xdmf`. A build without the
     /// `hdf5` feature writes them in any case: they are then its only field files.
     pub vtu: bool,
+    /// Leave out the saved steps a run can continue from (`restart/`, written by default): their
+    /// disk space for the ability to continue.
+    pub no_restart: bool,
 }
 
 impl OutputOptions {

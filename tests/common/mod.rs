@@ -247,4 +247,5 @@ scheme = "newton"
 }
 
 /// The Coulomb block of closed-forms.md §4 (see `geoslip::meshgen::block_on_rigid_base`).
+#[allow(unused_imports)] // (used by some of the test files that share this module)
 pub use geoslip::meshgen::block_on_rigid_base;

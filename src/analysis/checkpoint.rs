@@ -1,0 +1,129 @@
+//! What a run needs to continue from a completed step: the state, what the stages so far added to
+//! the run (held DOFs, gravity, the weight in the applied force), the stage's progress, and prints
+//! of the model it was made with, so that a continuation on a model changed where it matters is
+//! refused with the reason.
+//!
+//! A checkpoint is taken after every converged step of a loading stage (not inside a
+//! strength-reduction search, which starts again from the stage before it). Continuing from it
+//! ([`super::resume`]) gives the same later steps as the run that wrote it: the same state enters
+//! the same iterations.
+
+use super::state::State;
+use crate::model::Model;
+use serde::{Deserialize, Serialize};
+use std::hash::{Hash, Hasher};
+
+/// Everything a run carries past one converged step.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct Checkpoint {
+    /// The geoslip version that wrote it (prints are compared only within one version).
+    pub geoslip_version: String,
+    pub model: ModelPrint,
+    /// The stage (index in the model) and its converged step number (as in the outputs).
+    pub stage_index: usize,
+    pub stage: String,
+    pub step: usize,
+    pub state: State,
+    /// DOFs held by the supports and the prescribed displacements of the stages so far.
+    pub held: Vec<bool>,
+    /// The sum of the gravity factors of the stages so far.
+    pub gravity: f64,
+    /// The soil's weight and the boundary water pressure in the applied force.
+    pub applied_weight: Vec<f64>,
+    pub progress: StageProgress,
+}
+
+/// Where a stage is: its set-up's results and the load factors still to reach.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct StageProgress {
+    pub redundant: Vec<String>,
+    pub force: Vec<f64>,
+    pub f_ext_start: Vec<f64>,
+    pub unbalance: Vec<f64>,
+    /// Displacements when the stage started (prescribed displacements count from them).
+    pub u_start: Vec<f64>,
+    /// Load factors still to reach (empty: the stage is complete).
+    pub targets: Vec<f64>,
+    pub reached: f64,
+    /// Steps of the plan reached.
+    pub planned: usize,
+    /// Cutbacks of the increment in progress.
+    pub cutbacks: usize,
+}
+
+/// Prints of the parts of a model a saved state depends on.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ModelPrint {
+    pub mesh: u64,
+    pub materials: u64,
+    pub interfaces: u64,
+    pub supports: u64,
+    /// One per stage.
+    pub stages: Vec<u64>,
+}
+
+fn print_of(value: &impl std::fmt::Debug) -> u64 {
+    let mut h = std::collections::hash_map::DefaultHasher::new();
+    format!("{value:?}").hash(&mut h);
+    h.finish()
+}
+
+impl ModelPrint {
+    pub fn of(model: &Model) -> ModelPrint {
+        let mesh = &model.mesh;
+        ModelPrint {
+            mesh: print_of(&(&mesh.nodes, &mesh.solids, &mesh.bars, mesh.geometry)),
+            materials: print_of(&(&model.soils, &model.reinforcements)),
+            interfaces: print_of(&model.interfaces),
+            supports: print_of(&model.supports),
+            stages: model.stages.iter().map(print_of).collect(),
+        }
+    }
+}
+
+/// Why a saved state cannot be continued on a model.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ResumeRefusal {
+    #[error("it was written by geoslip {written}, and this is geoslip {running}: continue it with the version that wrote it")]
+    Version { written: String, running: String },
+    #[error(
+        "the {what} changed since the run that saved it ({detail}): the saved state belongs to the model as it was; run the model from the start"
+    )]
+    Changed { what: &'static str, detail: &'static str },
+    #[error(
+        "stage {index} (\"{name}\") changed or is gone: a continuation from stage \"{saved}\" keeps every stage up to that one; change only the stages after it (or continue from the end of the stage before the one you changed)"
+    )]
+    StageChanged { index: usize, name: String, saved: String },
+}
+
+impl Checkpoint {
+    /// Whether this state can be continued on `model`: same version, same mesh, materials,
+    /// interfaces and supports, and the same stages up to and including its own (the later ones
+    /// may be changed, added or removed).
+    ///
+    /// # Errors
+    /// The first [`ResumeRefusal`] found.
+    pub fn fits(&self, model: &Model) -> Result<(), ResumeRefusal> {
+        let running = env!("CARGO_PKG_VERSION");
+        if self.geoslip_version != running {
+            return Err(ResumeRefusal::Version { written: self.geoslip_version.clone(), running: running.into() });
+        }
+        let now = ModelPrint::of(model);
+        let parts = [
+            ("mesh", "its nodes, elements, bars or geometry", self.model.mesh, now.mesh),
+            ("materials", "of the soil or the reinforcement", self.model.materials, now.materials),
+            ("interfaces", "their lines, faces or laws", self.model.interfaces, now.interfaces),
+            ("supports", "the nodes and directions held", self.model.supports, now.supports),
+        ];
+        if let Some(&(what, detail, _, _)) = parts.iter().find(|(_, _, a, b)| a != b) {
+            return Err(ResumeRefusal::Changed { what, detail });
+        }
+        for index in 0..=self.stage_index {
+            if self.model.stages.get(index) != now.stages.get(index) {
+                let name = model.stages.get(index).map_or_else(|| "none".to_string(), |s| s.name.clone());
+                return Err(ResumeRefusal::StageChanged { index: index + 1, name, saved: self.stage.clone() });
+            }
+        }
+        Ok(())
+    }
+}
