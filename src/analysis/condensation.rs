@@ -94,7 +94,8 @@ pub fn solve(
         return Condensed::NotHere;
     }
     let kept = kept_equations(elements, dofs, state);
-    if kept.len() > MAX_KEPT || kept.len() as f64 > MAX_KEPT_SHARE * dofs.size() as f64 {
+    // (nothing to condense onto — soil alone, no interface or bar — is the full system's solve)
+    if kept.is_empty() || kept.len() > MAX_KEPT || kept.len() as f64 > MAX_KEPT_SHARE * dofs.size() as f64 {
         return Condensed::NotHere;
     }
     let t = std::time::Instant::now();
