@@ -81,6 +81,28 @@ struct Linearisation {
     key: u64,
 }
 
+impl Linearisation {
+    /// The inputs of this iteration's matrix, with the springs' stiffness kept for it.
+    fn inputs<'a>(
+        &'a self,
+        elements: &'a ElementMatrices,
+        stiffness: &'a [f64],
+        dofs: &'a DofMap,
+        state: &'a State,
+    ) -> SystemInputs<'a> {
+        inputs(
+            elements,
+            &self.soil_trial,
+            &self.rows,
+            stiffness,
+            self.coupling.as_deref(),
+            self.dilation.as_deref(),
+            dofs,
+            state,
+        )
+    }
+}
+
 /// An iteration's linear solution.
 struct Solution {
     /// [Δu on the free DOFs | Δλ/s].
@@ -303,16 +325,7 @@ fn solve(
     let t = Instant::now();
     let reuse = it.matrix_key == Some(linear.key);
     let stiffness = &it.kept_stiffness.as_ref().expect("set by linearise").1;
-    let system = inputs(
-        &cx.elements,
-        &linear.soil_trial,
-        &linear.rows,
-        stiffness,
-        linear.coupling.as_deref(),
-        linear.dilation.as_deref(),
-        dofs,
-        state,
-    );
+    let system = linear.inputs(&cx.elements, stiffness, dofs, state);
     let element = it.carried_element_force.take();
     let IterationSystem { triplets, rhs, scale, active } =
         iteration_system(system, &linear.springs, state, !reuse, element);
@@ -385,16 +398,7 @@ fn right_hand_side<'a>(
     element: Option<Vec<f64>>,
 ) -> (SystemInputs<'a>, Vec<f64>, f64) {
     let t = Instant::now();
-    let system = inputs(
-        elements,
-        &linear.soil_trial,
-        &linear.rows,
-        stiffness,
-        linear.coupling.as_deref(),
-        linear.dilation.as_deref(),
-        dofs,
-        state,
-    );
+    let system = linear.inputs(elements, stiffness, dofs, state);
     let IterationSystem { rhs, scale, .. } = iteration_system(system, &linear.springs, state, false, element);
     stats.assembly_seconds += t.elapsed().as_secs_f64();
     (system, rhs, scale)
@@ -434,16 +438,7 @@ fn solve_condensed(
     if soil_key.is_some() && soil_key != cx.conditioning_checked {
         cx.conditioning_checked = soil_key;
         let stiffness = &it.kept_stiffness.as_ref().expect("set by linearise").1;
-        let system = inputs(
-            &cx.elements,
-            &linear.soil_trial,
-            &linear.rows,
-            stiffness,
-            linear.coupling.as_deref(),
-            linear.dilation.as_deref(),
-            dofs,
-            state,
-        );
+        let system = linear.inputs(&cx.elements, stiffness, dofs, state);
         let triplets = system.assemble();
         singular::warn_if_ill_conditioned(cx, dofs, state, &triplets);
     }
