@@ -71,7 +71,13 @@ echo "== Python package: built by maturin into target/python-env, its tests (pyt
 # maturin, pytest, NumPy and matplotlib come from the package registry (PyPI); the module shares
 # target/ with the build above, so only geoslip itself and PyO3 are compiled again
 python3 -m venv target/python-env
-target/python-env/bin/pip install --quiet --disable-pip-version-check "maturin>=1.5,<2" pytest numpy matplotlib
+# without pip's cache (its temporary copies of the wheels need room beside target/), retried once
+# after a failed download
+pip_install() {
+  target/python-env/bin/pip install --quiet --disable-pip-version-check --no-cache-dir --retries 5 --timeout 60 \
+    "maturin>=1.5,<2" pytest numpy matplotlib
+}
+pip_install || { echo "== the Python packages' download failed; trying once more"; sleep 10; pip_install; }
 (cd python && VIRTUAL_ENV="$PWD/../target/python-env" CARGO_TARGET_DIR="$PWD/../target" \
   ../target/python-env/bin/maturin develop --locked --quiet)
 GEOSLIP_CLI="$PWD/target/debug/geoslip" target/python-env/bin/python -m pytest -q python/tests
