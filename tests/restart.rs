@@ -142,6 +142,20 @@ fn a_run_continued_from_a_saved_step_makes_the_same_later_steps_on_every_backend
     }
 }
 
+/// With `extrapolation = "linear"` the saved step carries the stage's last increment, so the
+/// continued run starts its next increment from the same extrapolated iterate.
+#[test]
+fn a_run_with_extrapolated_iterates_continues_with_the_same_iterations() {
+    let mut file = pullout(0.012, 8);
+    file.analysis.extrapolation = Extrapolation::Linear;
+    let model = common::model(&file, "restart-extrapolated.toml");
+    let straight = run_saving(&model, Backend::Faer);
+    let checkpoint = through_file(&straight, "pull-out", 3, &model).unwrap_or_else(|e| panic!("{e}"));
+    assert!(checkpoint.progress.last.is_some(), "the saved step carries the last increment");
+    let continued = resume(&model, Backend::Faer, checkpoint);
+    assert_same_steps(&straight.steps, 4, &continued, "extrapolated, from pull-out:3");
+}
+
 #[test]
 fn a_stage_added_after_the_saved_step_runs_as_in_the_longer_model() {
     let short = common::model(&pullout(0.012, 8), "restart-short.toml");

@@ -8,6 +8,7 @@
 //! ([`super::resume`]) gives the same later steps as the run that wrote it: the same state enters
 //! the same iterations.
 
+use super::predictor::LastIncrement;
 use super::state::State;
 use crate::model::Model;
 use serde::{Deserialize, Serialize};
@@ -49,6 +50,8 @@ pub struct StageProgress {
     pub planned: usize,
     /// Cutbacks of the increment in progress.
     pub cutbacks: usize,
+    /// The stage's last converged increment (what `extrapolation = "linear"` carries on).
+    pub last: Option<LastIncrement>,
 }
 
 /// Prints of the parts of a model a saved state depends on.

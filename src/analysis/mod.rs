@@ -8,6 +8,7 @@
 //! - `options`: what a run may be asked to do; `sink`: where its steps and factors of safety go;
 //! - `context`: what the run keeps from start to end; `state`: what a step carries to the next;
 //! - `stage`: a stage's set-up, its increments with cutback, and the commit of each step;
+//! - `predictor`: an increment's first iterate (the last increment's, carried on when asked);
 //! - `equilibrium`: one increment's iterations (assemble → solve → update → converged?);
 //! - `convergence`: when an increment has converged, and how it failed; `singular`: the recoveries
 //!   from a singular matrix, or the diagnosis of what is unconstrained; `non_finite`: where a NaN
@@ -40,6 +41,7 @@ mod equilibrium;
 mod loads;
 mod non_finite;
 mod options;
+mod predictor;
 pub mod results;
 mod singular;
 mod sink;

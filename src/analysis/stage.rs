@@ -6,6 +6,7 @@ use super::checkpoint::{Checkpoint, ModelPrint, StageProgress};
 use super::context::Context;
 use super::equilibrium::IncrementReport;
 use super::loads::external_force;
+use super::predictor::{self, LastIncrement};
 use super::results::{reinforcement_balance, StepResults};
 use super::sink::{StepRecord, StepSink};
 use super::soil;
@@ -20,7 +21,7 @@ use crate::error::Error;
 use crate::interface::active_set::place_contacts;
 use crate::interface::reassociate;
 use crate::interface::rows::{constraint_force, InterfaceRows};
-use crate::model::{Load, Model, ReassociationRule, StagePlan};
+use crate::model::{Extrapolation, Load, Model, ReassociationRule, StagePlan};
 use std::time::Instant;
 
 /// A stage once it is set up.
@@ -135,8 +136,10 @@ pub fn increments(
     resume: Option<(&StageProgress, usize)>,
 ) -> Result<(), Error> {
     let (model, plan) = (cx.model, stage.plan);
-    let (u_start, mut targets, mut reached, mut step, mut planned, mut cutbacks) = match resume {
-        Some((p, step)) => (p.u_start.clone(), p.targets.clone(), p.reached, step, p.planned, p.cutbacks),
+    let (u_start, mut targets, mut reached, mut step, mut planned, mut cutbacks, mut last) = match resume {
+        Some((p, step)) => {
+            (p.u_start.clone(), p.targets.clone(), p.reached, step, p.planned, p.cutbacks, p.last.clone())
+        }
         None => {
             let freeze = plan.freeze_normal_stress.unwrap_or(cx.options.analysis.freeze_normal_stress);
             state.frozen_sigma_n = None;
@@ -146,9 +149,10 @@ pub fn increments(
                 warn_of_unloaded_freeze(cx, state, plan, &rows, &frozen);
                 state.frozen_sigma_n = Some(frozen);
             }
-            (state.u.clone(), plan.load_factors.clone(), 0.0, 0, 0, 0)
+            (state.u.clone(), plan.load_factors.clone(), 0.0, 0, 0, 0, None)
         }
     };
+    let extrapolate = cx.options.analysis.extrapolation == Extrapolation::Linear;
     let print = sink.keeps_checkpoints().then(|| ModelPrint::of(model));
     while let Some(&target) = targets.first() {
         let started = Instant::now();
@@ -161,6 +165,9 @@ pub fn increments(
         }
         for &(n, d, value) in &plan.prescribed {
             state.u[dof(n, d)] = u_start[dof(n, d)] + target * value;
+        }
+        if let Some(last) = last.as_ref().filter(|_| extrapolate) {
+            predictor::extrapolate(state, &stage.dofs, last, target);
         }
         let report = match settled_equilibrium(cx, &stage.dofs, state) {
             Ok(report) => report,
@@ -183,6 +190,10 @@ pub fn increments(
         let reversal = planned_step && plan.reversals.contains(&planned);
         let at = Increment { step, load_factor: target, strength_factor: None, cutbacks, started, reversal };
         complete_increment(cx, stage, state, report, &at, sink)?;
+        if extrapolate {
+            last =
+                Some(LastIncrement { u_before: snapshot.u, lambda_before: snapshot.lambda, from: reached, to: target });
+        }
         targets.remove(0);
         reached = target;
         if planned_step {
@@ -199,6 +210,7 @@ pub fn increments(
                 reached,
                 planned,
                 cutbacks,
+                last: last.clone(),
             };
             sink.checkpoint(&Checkpoint {
                 geoslip_version: env!("CARGO_PKG_VERSION").into(),

@@ -8,7 +8,7 @@ mod pullout_bench;
 
 use crate::analysis::RunOptions;
 use crate::linsol::{Backend, Ordering, SolverOptions};
-use crate::model::{Case, LoadOptions, Model, Scheme};
+use crate::model::{Case, Extrapolation, LoadOptions, Model, Scheme};
 use crate::output::{KeptSteps, OutputOptions, ResultWriter};
 use bench::{bench, bench_nonlinear};
 use clap::{Parser, Subcommand};
@@ -163,7 +163,8 @@ enum Command {
         nonlinear: bool,
         /// The pull-out benchmark instead: a whole run with its results written, against one
         /// factorisation and one solve per pull step (docs/performance.md); each size with the
-        /// constant-stiffness and newton schemes, condensed and on the full system.
+        /// constant-stiffness and newton schemes, on the full system, condensed, and condensed with
+        /// the extrapolated first iterate.
         #[arg(long)]
         pullout: bool,
     },
@@ -186,6 +187,9 @@ enum Command {
         scheme: String,
         #[arg(long)]
         full_system: bool,
+        /// The pull-out run with `extrapolation = "linear"`.
+        #[arg(long)]
+        extrapolate: bool,
     },
 }
 
@@ -229,10 +233,12 @@ fn command_line() -> ExitCode {
         Command::Bench { sizes, backends, repeats, orderings, nonlinear, pullout } => match if pullout {
             let backend = backends.first().copied().unwrap_or(Backend::Auto);
             let variants = [
-                (Scheme::ConstantStiffness, false),
-                (Scheme::ConstantStiffness, true),
-                (Scheme::Newton, false),
-                (Scheme::Newton, true),
+                (Scheme::ConstantStiffness, false, Extrapolation::None),
+                (Scheme::ConstantStiffness, true, Extrapolation::None),
+                (Scheme::ConstantStiffness, true, Extrapolation::Linear),
+                (Scheme::Newton, false, Extrapolation::None),
+                (Scheme::Newton, true, Extrapolation::None),
+                (Scheme::Newton, true, Extrapolation::Linear),
             ];
             pullout_bench::bench_pullout(&sizes, backend, &variants)
         } else if nonlinear {
@@ -246,7 +252,7 @@ fn command_line() -> ExitCode {
                 ExitCode::from(exit::SOLVER)
             }
         },
-        Command::BenchOne { dofs, backend, ordering, nonlinear, pullout, scheme, full_system } => {
+        Command::BenchOne { dofs, backend, ordering, nonlinear, pullout, scheme, full_system, extrapolate } => {
             let backend = Backend::available().into_iter().find(|b| b.name() == backend);
             let line = match (nonlinear, backend) {
                 (_, Some(b)) if pullout => {
@@ -255,7 +261,8 @@ fn command_line() -> ExitCode {
                         "newton-symmetric" => Scheme::NewtonSymmetric,
                         _ => Scheme::ConstantStiffness,
                     };
-                    serde_json::to_string(&pullout_bench::measure_pullout(dofs, b, scheme, !full_system))
+                    let extrapolation = if extrapolate { Extrapolation::Linear } else { Extrapolation::None };
+                    serde_json::to_string(&pullout_bench::measure_pullout(dofs, b, scheme, !full_system, extrapolation))
                 }
                 (true, Some(b)) => serde_json::to_string(&measure::measure_nonlinear(dofs, b, ordering)),
                 _ => serde_json::to_string(&measure::measure(dofs, backend, ordering)),

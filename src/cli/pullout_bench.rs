@@ -15,7 +15,7 @@ use crate::linsol::linear_system::{LinearSystem, SolverStats};
 use crate::linsol::{self, Backend};
 use crate::meshgen::PullOutBox;
 use crate::model::file::ShearLawSpec;
-use crate::model::{Model, Scheme};
+use crate::model::{Extrapolation, Model, Scheme};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 use std::time::Instant;
@@ -24,7 +24,7 @@ use std::time::Instant;
 pub const PULL_STEPS: usize = 40;
 
 /// The benchmark model with about `dofs` unknowns.
-pub fn pullout_box(dofs: usize, scheme: Scheme) -> Model {
+pub fn pullout_box(dofs: usize, scheme: Scheme, extrapolation: Extrapolation) -> Model {
     // unknowns ≈ 2·(nx+1)·(2·ny_half+1) with nx = 2·(2·ny_half) for square elements in 2 m × 1 m
     let ny_half = ((dofs as f64 / 16.0).sqrt().round() as usize).max(2);
     let nx = 4 * ny_half;
@@ -44,6 +44,7 @@ pub fn pullout_box(dofs: usize, scheme: Scheme) -> Model {
     .model();
     file.analysis.freeze_normal_stress = true;
     file.analysis.scheme = scheme;
+    file.analysis.extrapolation = extrapolation;
     Model::from_file(Path::new("generated-pullout-benchmark"), &file)
         .expect("the generated pull-out benchmark is a valid model")
 }
@@ -117,8 +118,14 @@ fn median3(mut v: [f64; 3]) -> f64 {
 }
 
 /// Run the benchmark model with about `dofs` unknowns, its results written into a temporary folder.
-pub fn measure_pullout(dofs: usize, backend: Backend, scheme: Scheme, condense: bool) -> PulloutMeasurement {
-    let model = pullout_box(dofs, scheme);
+pub fn measure_pullout(
+    dofs: usize,
+    backend: Backend,
+    scheme: Scheme,
+    condense: bool,
+    extrapolation: Extrapolation,
+) -> PulloutMeasurement {
+    let model = pullout_box(dofs, scheme, extrapolation);
     let mut m = PulloutMeasurement {
         backend: backend.resolve().name().into(),
         scheme: format!("{scheme:?}"),
@@ -222,7 +229,11 @@ fn folder_bytes(dir: &Path) -> u64 {
 }
 
 /// Each size and variant in a child process; one Markdown table.
-pub fn bench_pullout(sizes: &[usize], backend: Backend, variants: &[(Scheme, bool)]) -> Result<(), String> {
+pub fn bench_pullout(
+    sizes: &[usize],
+    backend: Backend,
+    variants: &[(Scheme, bool, Extrapolation)],
+) -> Result<(), String> {
     let exe = std::env::current_exe().map_err(|e| e.to_string())?;
     let backend = backend.resolve();
     linsol::check_available(backend).map_err(|e| e.to_string())?;
@@ -232,10 +243,10 @@ pub fn bench_pullout(sizes: &[usize], backend: Backend, variants: &[(Scheme, boo
         backend.name()
     );
     println!();
-    println!("| unknowns | scheme | condensed (kept) | wall [s] | factorisation [s] | solve [s] | wall / (factorisation + {PULL_STEPS} solves) | iterations / step | factorisations | dense LUs | solves | wall, no files written [s] | output share | output [MB] | peak RSS [MiB] | head force [kN/m] |");
-    println!("|---:|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
+    println!("| unknowns | scheme | condensed (kept) | first iterate | wall [s] | factorisation [s] | solve [s] | wall / (factorisation + {PULL_STEPS} solves) | iterations / step | factorisations | dense LUs | solves | wall, no files written [s] | output share | output [MB] | peak RSS [MiB] | head force [kN/m] |");
+    println!("|---:|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
     for &size in sizes {
-        for &(scheme, condense) in variants {
+        for &(scheme, condense, extrapolation) in variants {
             let scheme_name = match scheme {
                 Scheme::ConstantStiffness => "constant-stiffness",
                 Scheme::Newton => "newton",
@@ -247,6 +258,13 @@ pub fn bench_pullout(sizes: &[usize], backend: Backend, variants: &[(Scheme, boo
             if !condense {
                 cmd.arg("--full-system");
             }
+            let first_iterate = match extrapolation {
+                Extrapolation::None => "last converged",
+                Extrapolation::Linear => {
+                    cmd.arg("--extrapolate");
+                    "extrapolated"
+                }
+            };
             let out = cmd.output().map_err(|e| e.to_string())?;
             let m: PulloutMeasurement = match serde_json::from_str(String::from_utf8_lossy(&out.stdout).trim()) {
                 Ok(m) => m,
@@ -261,7 +279,7 @@ pub fn bench_pullout(sizes: &[usize], backend: Backend, variants: &[(Scheme, boo
                 continue;
             }
             println!(
-                "| {} | {} | {} | {:.2} | {:.3} | {:.4} | {:.2} | {:.2} | {} | {} | {} | {:.2} | {:.1} % | {:.1} | {:.0} | {:.4} |",
+                "| {} | {} | {} | {} | {:.2} | {:.3} | {:.4} | {:.2} | {:.2} | {} | {} | {} | {:.2} | {:.1} % | {:.1} | {:.0} | {:.4} |",
                 m.unknowns,
                 scheme_name,
                 match (m.condensed, m.kept) {
@@ -269,6 +287,7 @@ pub fn bench_pullout(sizes: &[usize], backend: Backend, variants: &[(Scheme, boo
                     (true, None) => "asked, not used".into(),
                     _ => "no".into(),
                 },
+                first_iterate,
                 m.wall_seconds,
                 m.factorize_seconds,
                 m.solve_seconds,

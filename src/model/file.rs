@@ -123,6 +123,21 @@ pub struct AnalysisSettings {
     /// `plane-strain` (per metre width) or `axisymmetric` (x = r ≥ 0 about the y axis; forces are
     /// totals over the circumference).
     pub geometry: Geometry,
+    /// The first iterate of an increment: `none` (the last converged state, the prescribed
+    /// displacements moved) or `linear` (the last increment of the stage carried on, scaled to the
+    /// new step: fewer iterations under a steady pull; the same answer to the tolerances).
+    pub extrapolation: Extrapolation,
+}
+
+/// An increment's first iterate (see `AnalysisSettings::extrapolation`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "kebab-case")]
+pub enum Extrapolation {
+    /// The last converged displacements and multipliers.
+    #[default]
+    None,
+    /// The last increment of the stage carried on over the new load-factor step.
+    Linear,
 }
 
 impl Default for AnalysisSettings {
@@ -138,6 +153,7 @@ impl Default for AnalysisSettings {
             reserved_segments: 2,
             reduced_integration: false,
             geometry: Geometry::PlaneStrain,
+            extrapolation: Extrapolation::None,
         }
     }
 }

@@ -11,7 +11,7 @@ use crate::error::{Error, ModelError, Problem};
 use crate::interface::Interface;
 use crate::mesh::{Mesh, NodeIndex};
 // The `[analysis]` settings are checked as the file gives them: the run reads them from here.
-pub use file::{AnalysisSettings, ReassociationRule, Scheme};
+pub use file::{AnalysisSettings, Extrapolation, ReassociationRule, Scheme};
 use file::{Direction, ModelFile, ReinforcementMaterial, SoilMaterial, Units};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
