@@ -174,16 +174,20 @@ impl SystemInputs<'_> {
     /// then Δλ/s. This equilibration keeps the saddle-point matrix well conditioned for backends
     /// that do not scale it themselves.
     pub fn assemble(&self) -> Triplets {
-        let mut t = Triplets::default();
+        // reserved whole: grown by doubling, the list (the largest array of an assembly, 24 bytes
+        // an entry) would keep up to twice its size through the factorisation
+        let reserved = self.block_entries(Blocks::All) + self.interface_entries();
+        let mut t = Triplets::with_capacity(reserved);
         self.add_blocks(&mut t, Blocks::All);
         self.add_interface(&mut t);
+        debug_assert!(t.rows.len() <= reserved, "{} entries pushed, {reserved} reserved", t.rows.len());
         t
     }
 
     /// The soil elements alone: the part of the matrix that stays while the soil is elastic and
     /// no element is placed or removed ([`SystemInputs::soil_fingerprint`]).
     pub fn assemble_soil(&self) -> Triplets {
-        let mut t = Triplets::default();
+        let mut t = Triplets::with_capacity(self.block_entries(Blocks::Soil));
         self.add_blocks(&mut t, Blocks::Soil);
         t
     }
@@ -191,7 +195,7 @@ impl SystemInputs<'_> {
     /// Everything but the soil elements: the bars, the springs and the constraint rows. With
     /// [`SystemInputs::assemble_soil`] it sums to [`SystemInputs::assemble`].
     pub fn assemble_reinforcement_and_interface(&self) -> Triplets {
-        let mut t = Triplets::default();
+        let mut t = Triplets::with_capacity(self.block_entries(Blocks::Bars) + self.interface_entries());
         self.add_blocks(&mut t, Blocks::Bars);
         self.add_interface(&mut t);
         t
@@ -213,6 +217,37 @@ impl SystemInputs<'_> {
         self.soil.trial.tangents.len().hash(&mut h);
         self.dofs.equation.hash(&mut h);
         h.finish()
+    }
+
+    /// The entries `add_blocks` pushes for `which`.
+    fn block_entries(&self, which: Blocks) -> usize {
+        let SystemInputs { elements, soil, dofs, .. } = *self;
+        let first_bar = elements.bars.first().map_or(usize::MAX, |bar| bar.block);
+        let mut count = 0;
+        for (b, (dl, _)) in elements.blocks.iter().enumerate() {
+            let wanted = match which {
+                Blocks::All => true,
+                Blocks::Soil => b < first_bar,
+                Blocks::Bars => b >= first_bar,
+            };
+            if !wanted || (b < first_bar && !soil.field.elements[b].active) {
+                continue;
+            }
+            let free = dl.iter().filter(|&&d| dofs.equation[d].is_some()).count();
+            count += free * free;
+        }
+        count
+    }
+
+    /// At least as many entries as `add_interface` pushes.
+    fn interface_entries(&self) -> usize {
+        let SystemInputs { rows, spring_coupling, spring_dilation, .. } = *self;
+        let springs: usize = rows.springs.iter().map(|s| s.row.len() * s.row.len()).sum();
+        let row_entries: usize = rows.springs.iter().map(|s| s.row.len()).sum();
+        let coupling = if spring_coupling.is_some() { row_entries } else { 0 };
+        let dilation = if spring_dilation.is_some() { row_entries + rows.springs.len() } else { 0 };
+        let constraints: usize = rows.constraint_rows.iter().map(|r| 2 * r.len() + 1).sum();
+        springs + coupling + dilation + constraints
     }
 
     fn add_blocks(&self, t: &mut Triplets, which: Blocks) {

@@ -116,6 +116,15 @@ pub struct Triplets {
 }
 
 impl Triplets {
+    /// An empty list with room for `entries`.
+    pub fn with_capacity(entries: usize) -> Triplets {
+        Triplets {
+            rows: Vec::with_capacity(entries),
+            cols: Vec::with_capacity(entries),
+            values: Vec::with_capacity(entries),
+        }
+    }
+
     pub fn push(&mut self, i: usize, j: usize, v: f64) {
         self.rows.push(i);
         self.cols.push(j);
@@ -125,13 +134,17 @@ impl Triplets {
 
 /// Keeps the pattern of the last assembly and refills values through the map while the triplet
 /// indices stay the same.
+///
+/// The indices it compares with and the map are kept as 32-bit numbers (half the memory of the
+/// triplets' own); a system of more than 2³² − 1 equations or entries is assembled afresh each
+/// time instead.
 #[derive(Debug, Default)]
 pub struct PatternCache {
     n: usize,
-    rows: Vec<usize>,
-    cols: Vec<usize>,
+    rows: Vec<u32>,
+    cols: Vec<u32>,
     pattern: Option<Arc<CscPattern>>,
-    map: Vec<usize>,
+    map: Vec<u32>,
     /// How many times a pattern was computed.
     pub builds: usize,
 }
@@ -139,20 +152,36 @@ pub struct PatternCache {
 impl PatternCache {
     /// Turn triplets into a matrix. Returns the matrix and whether the pattern is new.
     pub fn assemble(&mut self, n: usize, t: &Triplets) -> (CscMatrix, bool) {
-        let same = self.pattern.is_some() && self.n == n && self.rows == t.rows && self.cols == t.cols;
+        let compact = n <= u32::MAX as usize && t.rows.len() <= u32::MAX as usize;
+        let equal = |kept: &[u32], now: &[usize]| {
+            kept.len() == now.len() && kept.iter().zip(now).all(|(&a, &b)| a as usize == b)
+        };
+        let same = compact
+            && self.pattern.is_some()
+            && self.n == n
+            && equal(&self.rows, &t.rows)
+            && equal(&self.cols, &t.cols);
         if !same {
+            // the old pattern's arrays go before the new ones are made
+            *self = PatternCache { builds: self.builds + 1, ..PatternCache::default() };
             let (pattern, map) = CscPattern::from_triplets(n, &t.rows, &t.cols);
+            if !compact {
+                let mut values = vec![0.0; pattern.nnz()];
+                for (&k, v) in map.iter().zip(&t.values) {
+                    values[k] += v;
+                }
+                return (CscMatrix { pattern: Arc::new(pattern), values }, true);
+            }
             self.pattern = Some(Arc::new(pattern));
-            self.map = map;
-            self.rows = t.rows.clone();
-            self.cols = t.cols.clone();
+            self.map = map.into_iter().map(|k| k as u32).collect();
+            self.rows = t.rows.iter().map(|&i| i as u32).collect();
+            self.cols = t.cols.iter().map(|&j| j as u32).collect();
             self.n = n;
-            self.builds += 1;
         }
         let pattern = self.pattern.clone().expect("pattern was just built");
         let mut values = vec![0.0; pattern.nnz()];
-        for (k, v) in t.values.iter().enumerate() {
-            values[self.map[k]] += v;
+        for (&k, v) in self.map.iter().zip(&t.values) {
+            values[k as usize] += v;
         }
         (CscMatrix { pattern, values }, !same)
     }
