@@ -20,25 +20,11 @@
 
 mod common;
 
+use common::slip::progressive::{at_slip_front as closed_form, ALPHA, EA, KS, L, NF, TAU};
 use common::slip::{bar_in_rigid_soil, pullout_curve};
 use geoslip::linsol::Backend;
 use geoslip::meshgen::PullOutBox;
 use geoslip::model::file::{Extrapolation, ReassociationRule, ShearLawSpec};
-
-const EA: f64 = 1000.0;
-const KS: f64 = 2000.0;
-const TAU: f64 = 5.0;
-const ALPHA: f64 = 2.0;
-const NF: f64 = 2.0;
-const L: f64 = 1.0;
-
-/// (u_head, P) at slip front s_f.
-fn closed_form(sf: f64) -> (f64, f64) {
-    let p = NF * TAU * (sf + (ALPHA * (L - sf)).tanh() / ALPHA);
-    let te = NF * TAU / ALPHA * (ALPHA * (L - sf)).tanh();
-    let u = TAU / KS + te * sf / EA + NF * TAU * sf * sf / (2.0 * EA);
-    (u, p)
-}
 
 /// The closed form's pull at head displacement `u`: elastic below first slip (P = EA·α·tanh(αL)·u),
 /// the slip front found by bisection up to full slip, n_f·τmax·L beyond.

@@ -19,23 +19,10 @@
 
 mod common;
 
+use common::slip::progressive::{at_slip_front as closed_form, ALPHA, EA, KS, NF, TAU};
 use common::slip::{bar_in_rigid_soil, pullout_curve};
 use geoslip::linsol::Backend;
 use geoslip::model::file::{ReassociationRule, ShearLawSpec};
-
-const EA: f64 = 1000.0;
-const KS: f64 = 2000.0;
-const TAU: f64 = 5.0;
-const ALPHA: f64 = 2.0;
-const NF: f64 = 2.0;
-
-fn closed_form(sf: f64) -> (f64, f64) {
-    let l = 1.0;
-    let p = NF * TAU * (sf + (ALPHA * (l - sf)).tanh() / ALPHA);
-    let te = NF * TAU / ALPHA * (ALPHA * (l - sf)).tanh();
-    let u = TAU / KS + te * sf / EA + NF * TAU * sf * sf / (2.0 * EA);
-    (u, p)
-}
 
 #[test]
 fn slip_front_positions_and_the_ultimate_pull_match_the_closed_form() {

@@ -219,24 +219,26 @@ impl SystemInputs<'_> {
         h.finish()
     }
 
+    /// Whether `add_blocks` takes block `b` for `which`: the wanted kind, and absent soil left out
+    /// (`first_bar`: the first bar's block).
+    fn takes_block(&self, b: usize, first_bar: usize, which: Blocks) -> bool {
+        let wanted = match which {
+            Blocks::All => true,
+            Blocks::Soil => b < first_bar,
+            Blocks::Bars => b >= first_bar,
+        };
+        wanted && (b >= first_bar || self.soil.field.elements[b].active)
+    }
+
     /// The entries `add_blocks` pushes for `which`.
     fn block_entries(&self, which: Blocks) -> usize {
-        let SystemInputs { elements, soil, dofs, .. } = *self;
+        let SystemInputs { elements, dofs, .. } = *self;
         let first_bar = elements.bars.first().map_or(usize::MAX, |bar| bar.block);
-        let mut count = 0;
-        for (b, (dl, _)) in elements.blocks.iter().enumerate() {
-            let wanted = match which {
-                Blocks::All => true,
-                Blocks::Soil => b < first_bar,
-                Blocks::Bars => b >= first_bar,
-            };
-            if !wanted || (b < first_bar && !soil.field.elements[b].active) {
-                continue;
-            }
-            let free = dl.iter().filter(|&&d| dofs.equation[d].is_some()).count();
-            count += free * free;
-        }
-        count
+        let free = |dl: &[usize]| dl.iter().filter(|&&d| dofs.equation[d].is_some()).count();
+        (0..elements.blocks.len())
+            .filter(|&b| self.takes_block(b, first_bar, which))
+            .map(|b| free(&elements.blocks[b].0).pow(2))
+            .sum()
     }
 
     /// At least as many entries as `add_interface` pushes.
@@ -255,23 +257,11 @@ impl SystemInputs<'_> {
         let eq = |d: usize| dofs.equation[d];
         let first_bar = elements.bars.first().map_or(usize::MAX, |bar| bar.block);
         for (b, (dl, k)) in elements.blocks.iter().enumerate() {
-            let wanted = match which {
-                Blocks::All => true,
-                Blocks::Soil => b < first_bar,
-                Blocks::Bars => b >= first_bar,
-            };
-            if !wanted {
+            if !self.takes_block(b, first_bar, which) {
                 continue;
             }
-            // absent soil is left out; a yielding element gives its tangent
-            let k = if b < first_bar {
-                if !soil.field.elements[b].active {
-                    continue;
-                }
-                soil.trial.tangents.get(b).and_then(|t| t.as_ref()).unwrap_or(k)
-            } else {
-                k
-            };
+            // a yielding element gives its tangent
+            let k = if b < first_bar { soil.trial.tangents.get(b).and_then(|t| t.as_ref()).unwrap_or(k) } else { k };
             // a ruptured or not yet placed bar keeps its place in the pattern with no stiffness
             let factor = if b >= first_bar && bars.idle(b - first_bar) { 0.0 } else { 1.0 };
             for (a, &da) in dl.iter().enumerate() {

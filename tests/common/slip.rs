@@ -80,3 +80,25 @@ pub fn pullout_curve(model: &geoslip::model::Model, c: &geoslip::analysis::Colle
     let head = model.node_sets["grid.head"][0];
     c.steps.iter().map(|(_, r)| (-r.displacement_vector[2 * head], -r.reaction_vector[2 * head])).collect()
 }
+
+/// The progressive-slip closed form (closed-forms.md §2) of the reference parameters used by the
+/// tests: EA = 1000 kN/m, Ks = 2000 kN/m³, τmax = 5 kPa (cohesion), α = √(n_f·Ks/EA) = 2, n_f = 2,
+/// L = 1 m.
+pub mod progressive {
+    pub const EA: f64 = 1000.0;
+    pub const KS: f64 = 2000.0;
+    pub const TAU: f64 = 5.0;
+    pub const ALPHA: f64 = 2.0;
+    pub const NF: f64 = 2.0;
+    pub const L: f64 = 1.0;
+
+    /// (u_head, P) with the slip front at `sf` from the head:
+    /// P = n_f·τmax·[s_f + tanh(α(L−s_f))/α], u_head = u_y + T_e·s_f/EA + n_f·τmax·s_f²/(2·EA),
+    /// T_e = (n_f·τmax/α)·tanh(α(L−s_f)).
+    pub fn at_slip_front(sf: f64) -> (f64, f64) {
+        let p = NF * TAU * (sf + (ALPHA * (L - sf)).tanh() / ALPHA);
+        let te = NF * TAU / ALPHA * (ALPHA * (L - sf)).tanh();
+        let u = TAU / KS + te * sf / EA + NF * TAU * sf * sf / (2.0 * EA);
+        (u, p)
+    }
+}
