@@ -11,7 +11,9 @@ For every `summary.json` under BEFORE it compares, against the same file under A
 - the solver's counts (analyses, factorisations, solves, equilibrium iterations);
 and every CSV file beside it (history.csv, and each step's tables when the runs wrote them with
 `geoslip run --csv`) value by value, and every dataset of `results.h5` (a build with the `hdf5`
-feature; read with h5py, Debian's python3-h5py) value by value.
+feature; read with h5py, Debian's python3-h5py) value by value. A single-precision field (the
+default, `--field-precision single`) may differ by one unit in its last place: two values within the
+tolerance can round to neighbouring 4-byte floats.
 
 A number is "identical" when its text is the same; otherwise the relative difference
 |a − b| / max(|a|, |b|, 1e-300) must stay below the tolerance. Timings are not compared. Prints one
@@ -147,6 +149,11 @@ def compare_h5(tally, where, a_path, b_path):
                 continue
             x, y = np.ravel(x), np.ravel(y)
             same = (x == y) | (np.isnan(x) & np.isnan(y)) if x.dtype.kind == "f" else x == y
+            if x.dtype == np.float32 and y.dtype == np.float32:
+                # a single-precision field: two values within the tolerance may round to
+                # neighbouring floats, so one unit in the last place counts as the same
+                scale = np.maximum(np.abs(x), np.abs(y)).astype(np.float64)
+                same |= np.abs(x.astype(np.float64) - y.astype(np.float64)) <= 2.0**-23 * scale
             tally.identical += int(np.count_nonzero(same))
             for i in np.flatnonzero(~same):
                 tally.number(f"{where}:{name}[{i}]", float(x[i]), float(y[i]))

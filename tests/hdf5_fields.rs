@@ -1,7 +1,10 @@
 //! `results.h5` holds every field of every step exactly as the run computed it: the paper's pull-out
 //! test in clay is run through the library (`output::run_and_write_with`) with every step kept in
 //! memory (`analysis::sink::Collect`), and the HDF5 file is read back with the hdf5 crate, every
-//! dataset of every step compared with the in-memory `StepResults`, f64 for f64 (`==`).
+//! dataset of every step compared with the in-memory `StepResults`: with `--field-precision double`
+//! f64 for f64 (`==`); by default (single) each field value stored as a 4-byte float equal to the
+//! computed value rounded to the nearest f32 (`==`), the mesh and the history f64 for f64 either
+//! way.
 //!
 //! Reference: docs/results.md (the layout of `results.h5`) and the XDMF model (xdmf.org, "XDMF
 //! Model and Format": Topology, Geometry, Attribute): each grid's cells and points as the mesh and
@@ -15,6 +18,7 @@
 use geoslip::analysis::results::StepResults;
 use geoslip::analysis::{Collect, StepRecord};
 use geoslip::model::Model;
+use geoslip::output::options::FieldPrecision;
 use geoslip::output::OutputOptions;
 use std::collections::{BTreeSet, HashMap};
 use std::path::Path;
@@ -38,6 +42,23 @@ fn assert_exactly<T: hdf5::H5Type + PartialEq + std::fmt::Debug>(
     for (i, (a, b)) in values.iter().zip(expected).enumerate() {
         assert!(a == b, "{path}[{}][{}]: {a:?} in the file, {b:?} computed", i / columns, i % columns);
     }
+}
+
+/// The step field `path`, which must be `computed` as the run's `precision` stores it: the values
+/// themselves in double precision, each rounded to the nearest f32 in single.
+fn assert_field(file: &hdf5::File, path: &str, computed: &[f64], columns: usize, precision: FieldPrecision) {
+    let size = file.dataset(path).unwrap().dtype().unwrap().size();
+    let stored: Vec<f64> = match precision {
+        FieldPrecision::Double => {
+            assert_eq!(size, 8, "{path}: 8-byte floats");
+            computed.to_vec()
+        }
+        FieldPrecision::Single => {
+            assert_eq!(size, 4, "{path}: 4-byte floats");
+            computed.iter().map(|&v| v as f32 as f64).collect()
+        }
+    };
+    assert_exactly(file, path, &stored, columns);
 }
 
 /// The names of the datasets (and links) in group `path`.
@@ -79,7 +100,14 @@ fn soil_averages(model: &Model, r: &StepResults) -> Vec<(usize, [f64; 6], [f64; 
         .collect()
 }
 
-fn check_step(file: &hdf5::File, model: &Model, time: usize, record: &StepRecord, r: &StepResults) {
+fn check_step(
+    file: &hdf5::File,
+    model: &Model,
+    time: usize,
+    record: &StepRecord,
+    r: &StepResults,
+    precision: FieldPrecision,
+) {
     let step = format!("steps/{time:04}");
     let g = file.group(&step).unwrap();
     let stage: hdf5::types::VarLenUnicode = g.attr("stage").unwrap().read_scalar().unwrap();
@@ -111,7 +139,7 @@ fn check_step(file: &hdf5::File, model: &Model, time: usize, record: &StepRecord
     let x: Vec<f64> = mesh.nodes.iter().flat_map(|n| [n.x[0], n.x[1], 0.0]).collect();
     assert_exactly(file, &format!("{soil}/geometry"), &x, 3);
     let disp: Vec<f64> = mesh.nodes.iter().flat_map(|n| u(n.id)).collect();
-    assert_exactly(file, &format!("{soil}/displacement"), &disp, 3);
+    assert_field(file, &format!("{soil}/displacement"), &disp, 3, precision);
     let averages = soil_averages(model, r);
     assert!(!averages.is_empty());
     let cells: Vec<i64> =
@@ -121,11 +149,29 @@ fn check_step(file: &hdf5::File, model: &Model, time: usize, record: &StepRecord
     assert_exactly(file, &format!("{soil}/element_id"), &ids, 1);
     let material: Vec<i32> = averages.iter().map(|a| mesh.solids[a.0].material as i32).collect();
     assert_exactly(file, &format!("{soil}/material"), &material, 1);
-    assert_exactly(file, &format!("{soil}/stress"), &averages.iter().flat_map(|a| a.1).collect::<Vec<_>>(), 6);
-    assert_exactly(file, &format!("{soil}/strain"), &averages.iter().flat_map(|a| a.2).collect::<Vec<_>>(), 6);
-    assert_exactly(file, &format!("{soil}/pore_pressure"), &averages.iter().map(|a| a.3).collect::<Vec<_>>(), 1);
-    assert_exactly(file, &format!("{soil}/plastic_fraction"), &averages.iter().map(|a| a.4).collect::<Vec<_>>(), 1);
-    assert_exactly(file, &format!("{soil}/plastic_strain"), &averages.iter().map(|a| a.5).collect::<Vec<_>>(), 1);
+    assert_field(file, &format!("{soil}/stress"), &averages.iter().flat_map(|a| a.1).collect::<Vec<_>>(), 6, precision);
+    assert_field(file, &format!("{soil}/strain"), &averages.iter().flat_map(|a| a.2).collect::<Vec<_>>(), 6, precision);
+    assert_field(
+        file,
+        &format!("{soil}/pore_pressure"),
+        &averages.iter().map(|a| a.3).collect::<Vec<_>>(),
+        1,
+        precision,
+    );
+    assert_field(
+        file,
+        &format!("{soil}/plastic_fraction"),
+        &averages.iter().map(|a| a.4).collect::<Vec<_>>(),
+        1,
+        precision,
+    );
+    assert_field(
+        file,
+        &format!("{soil}/plastic_strain"),
+        &averages.iter().map(|a| a.5).collect::<Vec<_>>(),
+        1,
+        precision,
+    );
 
     // reinforcement: the bars' nodes in order of first appearance, one line per bar
     let bars = format!("{step}/reinforcement");
@@ -144,9 +190,15 @@ fn check_step(file: &hdf5::File, model: &Model, time: usize, record: &StepRecord
     let lines: Vec<i64> =
         r.bar_forces.iter().flat_map(|b| b.nodes.map(|n| nodes.iter().position(|&m| m == n).unwrap() as i64)).collect();
     assert_exactly(file, &format!("{bars}/topology"), &lines, 2);
-    assert_exactly(file, &format!("{bars}/displacement"), &nodes.iter().flat_map(|&n| u(n)).collect::<Vec<_>>(), 3);
+    assert_field(
+        file,
+        &format!("{bars}/displacement"),
+        &nodes.iter().flat_map(|&n| u(n)).collect::<Vec<_>>(),
+        3,
+        precision,
+    );
     let force: Vec<f64> = r.bar_forces.iter().map(|b| b.axial_force).collect();
-    assert_exactly(file, &format!("{bars}/axial_force"), &force, 1);
+    assert_field(file, &format!("{bars}/axial_force"), &force, 1, precision);
     let state: Vec<i32> = r
         .bar_forces
         .iter()
@@ -179,18 +231,19 @@ fn check_step(file: &hdf5::File, model: &Model, time: usize, record: &StepRecord
     let x: Vec<f64> = p.iter().flat_map(|p| mesh.nodes[node_index[&p.slave_node]].x.into_iter().chain([0.0])).collect();
     assert_exactly(file, &format!("{faces}/geometry"), &x, 3);
     assert_exactly(file, &format!("{faces}/topology"), &(0..p.len() as i64).collect::<Vec<_>>(), 1);
-    assert_exactly(
+    assert_field(
         file,
         &format!("{faces}/displacement"),
         &p.iter().flat_map(|p| u(p.slave_node)).collect::<Vec<_>>(),
         3,
+        precision,
     );
-    assert_exactly(file, &format!("{faces}/lambda"), &p.iter().map(|p| p.lambda).collect::<Vec<_>>(), 1);
-    assert_exactly(file, &format!("{faces}/sigma_n"), &p.iter().map(|p| p.sigma_n).collect::<Vec<_>>(), 1);
-    assert_exactly(file, &format!("{faces}/tau"), &p.iter().map(|p| p.tau).collect::<Vec<_>>(), 1);
-    assert_exactly(file, &format!("{faces}/bearing"), &p.iter().map(|p| p.bearing).collect::<Vec<_>>(), 1);
-    assert_exactly(file, &format!("{faces}/dilation"), &p.iter().map(|p| p.dilation).collect::<Vec<_>>(), 1);
-    assert_exactly(file, &format!("{faces}/slip"), &p.iter().map(|p| p.slip).collect::<Vec<_>>(), 1);
+    assert_field(file, &format!("{faces}/lambda"), &p.iter().map(|p| p.lambda).collect::<Vec<_>>(), 1, precision);
+    assert_field(file, &format!("{faces}/sigma_n"), &p.iter().map(|p| p.sigma_n).collect::<Vec<_>>(), 1, precision);
+    assert_field(file, &format!("{faces}/tau"), &p.iter().map(|p| p.tau).collect::<Vec<_>>(), 1, precision);
+    assert_field(file, &format!("{faces}/bearing"), &p.iter().map(|p| p.bearing).collect::<Vec<_>>(), 1, precision);
+    assert_field(file, &format!("{faces}/dilation"), &p.iter().map(|p| p.dilation).collect::<Vec<_>>(), 1, precision);
+    assert_field(file, &format!("{faces}/slip"), &p.iter().map(|p| p.slip).collect::<Vec<_>>(), 1, precision);
     // 0 stick, 1 slip, 2 open, 3 residual (docs/results.md)
     let state: Vec<i32> = p
         .iter()
@@ -221,12 +274,22 @@ fn check_step(file: &hdf5::File, model: &Model, time: usize, record: &StepRecord
 }
 
 #[test]
-fn every_field_of_every_step_reads_back_from_results_h5_exactly() {
+fn every_field_of_every_step_reads_back_from_results_h5_in_single_precision() {
+    every_field_of_every_step_reads_back(FieldPrecision::Single);
+}
+
+#[test]
+fn every_field_of_every_step_reads_back_from_results_h5_exactly_in_double_precision() {
+    every_field_of_every_step_reads_back(FieldPrecision::Double);
+}
+
+fn every_field_of_every_step_reads_back(precision: FieldPrecision) {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/paper-pullout-clay.toml");
     let model = Model::load(&path).unwrap();
     let out = tempfile::tempdir().unwrap();
     let mut steps = Collect::default();
-    geoslip::output::run_and_write_with(&model, out.path(), &OutputOptions::default(), &mut steps).unwrap();
+    let options = OutputOptions { precision, ..OutputOptions::default() };
+    geoslip::output::run_and_write_with(&model, out.path(), &options, &mut steps).unwrap();
     assert_eq!(steps.steps.len(), 61);
 
     let file = hdf5::File::open(out.path().join("results.h5")).unwrap();
@@ -234,7 +297,7 @@ fn every_field_of_every_step_reads_back_from_results_h5_exactly() {
     assert_eq!(kept.len(), steps.steps.len(), "every step kept by default");
     let mut states = BTreeSet::new();
     for (k, (record, r)) in steps.steps.iter().enumerate() {
-        check_step(&file, &model, k + 1, record, r);
+        check_step(&file, &model, k + 1, record, r, precision);
         states.extend(r.interface_points.iter().map(|p| (p.state, p.sliding)));
     }
     assert!(states.contains(&("active", true)) && states.contains(&("active", false)), "{states:?}");

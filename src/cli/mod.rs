@@ -116,6 +116,12 @@ enum Command {
         /// space for the ability to continue.
         #[arg(long)]
         no_restart: bool,
+        /// The precision of the step fields in results.h5: single (4-byte floats, about 7
+        /// significant digits, half the size) or double (every value exactly as computed). The
+        /// mesh, the history, history.csv, the CSV files and the saved steps hold every digit
+        /// either way.
+        #[arg(long, value_name = "single|double", default_value = "single")]
+        field_precision: crate::output::options::FieldPrecision,
     },
     /// Check a model and list every problem found. It runs no other program: a mesh given as a .geo
     /// script is read (and refused if it runs programs or writes files) but meshed only with --mesh.
@@ -289,11 +295,12 @@ fn command_line() -> ExitCode {
             restart,
             from,
             no_restart,
+            field_precision,
         } => {
             let options =
                 SolverOptions { ordering, out_of_core, memory_limit_mb: memory_limit, condense: !full_system };
             let load = LoadOptions { trust_geo, memory_limit_mb: memory_limit };
-            let output = OutputOptions { csv, keep, vtu, no_restart };
+            let output = OutputOptions { csv, keep, vtu, no_restart, precision: field_precision };
             let restart = restart.zip(from);
             match run(&model, load, solver, &options, &output, out, restart, Verbosity::of(&cli_flags)) {
                 Ok(()) => ExitCode::SUCCESS,

@@ -379,6 +379,10 @@ pub struct FieldFiles {
     pub csv: bool,
     /// Which steps are kept: `every`, `events` or N (every N-th step and the events).
     pub keep: String,
+    /// The precision of the step fields in `results.h5`: `single` or `double` (absent from a
+    /// build without it).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub precision: Option<&'static str>,
     /// The kept steps, by their number over the run (1, 2, …; the `Time` in `results.xdmf`).
     pub kept_steps: Vec<usize>,
 }
@@ -500,7 +504,16 @@ impl ResultWriter {
                 notes: model.notes.clone(),
                 events: Vec::new(),
                 factors_of_safety: Vec::new(),
-                fields: FieldFiles { files, csv: options.csv, keep: options.keep.to_string(), kept_steps: Vec::new() },
+                fields: FieldFiles {
+                    files,
+                    csv: options.csv,
+                    keep: options.keep.to_string(),
+                    precision: options.writes_hdf5().then_some(match options.precision {
+                        options::FieldPrecision::Single => "single",
+                        options::FieldPrecision::Double => "double",
+                    }),
+                    kept_steps: Vec::new(),
+                },
                 steps: Vec::new(),
                 solver_stats: SolverStats::default(),
                 total_seconds: 0.0,
@@ -520,7 +533,14 @@ impl ResultWriter {
                 .collect();
             let history: Vec<results_h5::HistoryTarget<'_>> =
                 labels.iter().map(|(label, direction)| results_h5::HistoryTarget { label, direction }).collect();
-            let results = results_h5::Hdf5Results::create(out, &model.title, &writer.units, &writer.layout, &history)?;
+            let results = results_h5::Hdf5Results::create(
+                out,
+                &model.title,
+                &writer.units,
+                &writer.layout,
+                &history,
+                options.precision,
+            )?;
             writer.h5 = Some(hdf5_thread::Hdf5Thread::start(results, writer.layout.clone())?);
         }
         Ok(writer)

@@ -18,6 +18,23 @@ pub struct OutputOptions {
     /// Leave out the saved steps a run can continue from (`restart/`, written by default): their
     /// disk space for the ability to continue.
     pub no_restart: bool,
+    /// The precision of the step fields in `results.h5` (single by default).
+    pub precision: FieldPrecision,
+}
+
+/// The precision of the step fields in `results.h5`: every field of every kept step (displacements,
+/// stresses, strains, the interface's and the bars' values). The mesh's coordinates and the history
+/// are written in double precision either way; the saved steps a run continues from, history.csv
+/// and the CSV files hold every digit.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
+pub enum FieldPrecision {
+    /// 4-byte floats (about 7 significant digits, as ParaView shows them, and as Abaqus writes its
+    /// field output): each value the computed one rounded to the nearest single-precision number;
+    /// half the size of double.
+    #[default]
+    Single,
+    /// 8-byte floats: every value exactly as computed.
+    Double,
 }
 
 impl OutputOptions {

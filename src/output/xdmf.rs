@@ -17,6 +17,7 @@ use crate::model::file::SolidKind;
 /// How the numbers of an array are stored.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum NumberType {
+    Float4,
     Float8,
     Int4,
     Int8,
@@ -26,6 +27,7 @@ pub enum NumberType {
 impl NumberType {
     fn xml(self) -> &'static str {
         match self {
+            NumberType::Float4 => "NumberType=\"Float\" Precision=\"4\"",
             NumberType::Float8 => "NumberType=\"Float\" Precision=\"8\"",
             NumberType::Int4 => "NumberType=\"Int\" Precision=\"4\"",
             NumberType::Int8 => "NumberType=\"Int\" Precision=\"8\"",
