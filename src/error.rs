@@ -76,6 +76,13 @@ pub enum SolveError {
          use --solver faer (or auto) for a model this size"
     )]
     TooLarge { size: usize, limit: usize },
+    /// The assembled system would need indices beyond the assembly's 32 bits.
+    #[error(
+        "the model's system would have up to {equations} equations and {entries} soil matrix entries; the assembly \
+         indexes equations in 32 bits (below {limit}) and the soil's entries in half that: coarsen the mesh or \
+         split the model"
+    )]
+    BeyondIndices { equations: usize, entries: usize, limit: usize },
     /// The requested backend is not compiled into this build.
     #[error("solver backend '{backend}' is not available in this build: {hint}")]
     Unavailable { backend: String, hint: String },

@@ -149,8 +149,19 @@ fn symmetric_tangent(model: &Model, options: &RunOptions) -> bool {
     !coupled && !model.has_non_associated_soil()
 }
 
-/// Stop before allocating anything large when the model alone would not fit.
+/// Stop before allocating anything large when the model alone would not fit, in memory or in the
+/// assembly's 32-bit indices.
 fn check_memory(model: &Model, options: &RunOptions) -> Result<(), SolveError> {
+    // every node's two displacements and a multiplier per interface point and face bound the
+    // equations; the soil's element matrices are nearly all of a list's entries (half the limit
+    // leaves the rest to the bars and interfaces)
+    let points: usize = model.interfaces.iter().flat_map(|i| &i.faces).map(|f| f.points.len()).sum();
+    let equations = 2 * model.mesh.nodes.len() + points;
+    let entries: usize = model.mesh.solids.iter().map(|s| (2 * s.nodes.len()).pow(2)).sum();
+    let limit = crate::linsol::csc::MAX_ENTRIES;
+    if equations >= limit || entries >= limit / 2 {
+        return Err(SolveError::BeyondIndices { equations, entries, limit });
+    }
     if let Some(limit) = options.solver.memory_limit_mb.or_else(crate::linsol::available_memory_mb) {
         let needed = model_memory_estimate_mb(model);
         if needed > limit {

@@ -339,23 +339,26 @@ fn solve(
         }
     }
     let reused = if reuse { cx.system.solve_again(&rhs).ok() } else { None };
-    let triplets = match reused {
-        Some(_) => triplets,
-        None if reuse => {
-            // the reused factorisation did not give a clean solution: assemble and factorise
-            let t = Instant::now();
-            let again = system.assemble();
-            cx.system.stats.assembly_seconds += t.elapsed().as_secs_f64();
-            again
-        }
-        None => triplets,
-    };
     it.matrix_key = Some(linear.key);
-    match reused.map_or_else(|| cx.system.solve(dofs.size(), &triplets, &rhs, active), Ok) {
+    let solved = match reused {
+        Some(solution) => Ok(solution),
+        None => {
+            let triplets = if reuse {
+                // the reused factorisation did not give a clean solution: assemble and factorise
+                let t = Instant::now();
+                let again = system.assemble();
+                cx.system.stats.assembly_seconds += t.elapsed().as_secs_f64();
+                again
+            } else {
+                singular::warn_if_ill_conditioned(&mut cx.system.stats, cx.model, dofs, state, &triplets);
+                triplets
+            };
+            // the list goes once the matrix is built, before the factorisation
+            cx.system.solve(dofs.size(), triplets, &rhs, active)
+        }
+    };
+    match solved {
         Ok((x, linear_residual)) => {
-            if !reuse {
-                singular::warn_if_ill_conditioned(cx, dofs, state, &triplets);
-            }
             let iterate = Iterate {
                 mesh: &cx.model.mesh,
                 dofs,
@@ -370,6 +373,8 @@ fn solve(
             Ok(Some(Solution { x, scale, rhs }))
         }
         Err(Failure::Singular { equations }) => {
+            // the list again, for the diagnosis (a singular matrix is the exception)
+            let triplets = system.assemble();
             let singular = SingularMatrix {
                 triplets: &triplets,
                 equations,
@@ -440,7 +445,7 @@ fn solve_condensed(
         let stiffness = &it.kept_stiffness.as_ref().expect("set by linearise").1;
         let system = linear.inputs(&cx.elements, stiffness, dofs, state);
         let triplets = system.assemble();
-        singular::warn_if_ill_conditioned(cx, dofs, state, &triplets);
+        singular::warn_if_ill_conditioned(&mut cx.system.stats, cx.model, dofs, state, &triplets);
     }
     it.carried_element_force = None;
     // the full system's factorisation (if any) is not this iteration's matrix

@@ -96,8 +96,8 @@ pub fn in_system(it: &Iterate, rhs: &[f64], triplets: &Triplets) -> Option<NonFi
         value: triplets.values[k],
         location: format!(
             "the matrix entry of {} against {}",
-            dofs.describe(triplets.rows[k], mesh, &state.interfaces),
-            dofs.describe(triplets.cols[k], mesh, &state.interfaces)
+            dofs.describe(triplets.rows[k] as usize, mesh, &state.interfaces),
+            dofs.describe(triplets.cols[k] as usize, mesh, &state.interfaces)
         ),
     })
 }

@@ -22,6 +22,7 @@ use crate::error::SolveError;
 use crate::interface::active_set::describe;
 use crate::interface::{Interface, NormalState};
 use crate::linsol::csc::{PatternCache, Triplets};
+use crate::linsol::linear_system::SolverStats;
 use crate::linsol::{dense_ref, Failure, LinearSolver};
 use crate::model::Model;
 
@@ -136,7 +137,8 @@ impl StiffnessSpread {
     pub fn of(triplets: &Triplets, dofs: &DofMap) -> Option<StiffnessSpread> {
         let mut diagonal = vec![0.0f64; dofs.free_count];
         for ((&i, &j), &v) in triplets.rows.iter().zip(&triplets.cols).zip(&triplets.values) {
-            if i == j && i < dofs.free_count {
+            let i = i as usize;
+            if i == j as usize && i < dofs.free_count {
                 diagonal[i] += v;
             }
         }
@@ -149,9 +151,15 @@ impl StiffnessSpread {
 
 /// Warn (once a run) when a matrix that was solved is ill-conditioned: its results carry round-off
 /// that the residual check may not show.
-pub fn warn_if_ill_conditioned(cx: &mut Context, dofs: &DofMap, state: &State, triplets: &Triplets) {
+pub fn warn_if_ill_conditioned(
+    stats: &mut SolverStats,
+    model: &Model,
+    dofs: &DofMap,
+    state: &State,
+    triplets: &Triplets,
+) {
     const WARNING: &str = "the stiffness matrix is ill-conditioned";
-    if cx.system.stats.warnings.iter().any(|w| w.starts_with(WARNING)) {
+    if stats.warnings.iter().any(|w| w.starts_with(WARNING)) {
         return;
     }
     if let Some(spread) = StiffnessSpread::of(triplets, dofs).filter(|s| s.ratio > ILL_CONDITIONED) {
@@ -161,12 +169,12 @@ pub fn warn_if_ill_conditioned(cx: &mut Context, dofs: &DofMap, state: &State, t
              bring the stiffnesses closer (the soil's Young's modulus against the reinforcement's EA and the \
              interfaces' Ks, in consistent units)",
             spread.softest.1,
-            dofs.describe(spread.softest.0, &cx.model.mesh, &state.interfaces),
+            dofs.describe(spread.softest.0, &model.mesh, &state.interfaces),
             spread.stiffest.1,
-            dofs.describe(spread.stiffest.0, &cx.model.mesh, &state.interfaces),
+            dofs.describe(spread.stiffest.0, &model.mesh, &state.interfaces),
             spread.ratio
         );
-        cx.system.stats.warnings.push(warning);
+        stats.warnings.push(warning);
     }
 }
 
@@ -223,7 +231,7 @@ fn unconstrained(
 fn column_norms(triplets: &Triplets, n: usize) -> Vec<f64> {
     let mut column_norm = vec![0.0f64; n];
     for (&j, &v) in triplets.cols.iter().zip(&triplets.values) {
-        column_norm[j] += v.abs();
+        column_norm[j as usize] += v.abs();
     }
     column_norm
 }

@@ -200,7 +200,7 @@ pub fn measure_pullout(
                     *v *= 1.0 + 1e-9 * (k + 1) as f64;
                 }
                 let t = Instant::now();
-                let _ = ls.solve(n, &values, &system.rhs, system.active);
+                let _ = ls.solve(n, values, &system.rhs, system.active);
                 factorize[k] = t.elapsed().as_secs_f64();
                 let t = Instant::now();
                 let _ = ls.solve_again(&system.rhs);

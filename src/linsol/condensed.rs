@@ -80,7 +80,7 @@ impl CondensedSystem {
 
     /// Whether every entry of `change` lies among `kept` (sorted equations).
     pub fn fits(kept: &[usize], change: &Triplets) -> bool {
-        let inside = |e: &usize| kept.binary_search(e).is_ok();
+        let inside = |&e: &u32| kept.binary_search(&(e as usize)).is_ok();
         change.rows.iter().all(inside) && change.cols.iter().all(inside)
     }
 
@@ -133,7 +133,7 @@ impl CondensedSystem {
             let schur = &self.linear.as_ref().expect("set above").schur;
             let mut a = Mat::from_fn(m, m, |i, j| schur[i * m + j]);
             for ((&i, &j), &v) in change.rows.iter().zip(&change.cols).zip(&change.values) {
-                let (Some(i), Some(j)) = (self.position[i], self.position[j]) else {
+                let (Some(i), Some(j)) = (self.position[i as usize], self.position[j as usize]) else {
                     return Err(Failure::Other(SolveError::Backend {
                         backend: self.condensing.backend().name(),
                         message: format!("an entry ({i}, {j}) of the changing part lies outside the kept unknowns"),
@@ -296,7 +296,7 @@ impl CondensedSystem {
         let change = &self.dense.as_ref().expect("factorised before a solve").change;
         let mut ax = linear.matrix.mul_vec(x);
         for ((&i, &j), &v) in change.rows.iter().zip(&change.cols).zip(&change.values) {
-            ax[i] += v * x[j];
+            ax[i as usize] += v * x[j as usize];
         }
         rhs.iter().zip(&ax).map(|(b, a)| b - a).collect()
     }

@@ -30,24 +30,27 @@ impl CscPattern {
     ///
     /// # Panics
     /// If a triplet index is not below `n` (the assembler only produces valid indices).
-    pub fn from_triplets(n: usize, rows: &[usize], cols: &[usize]) -> (CscPattern, Vec<usize>) {
+    pub fn from_triplets(n: usize, rows: &[u32], cols: &[u32]) -> (CscPattern, Vec<u32>) {
         assert_eq!(rows.len(), cols.len());
-        assert!(rows.iter().chain(cols).all(|&i| i < n), "triplet index out of range");
-        // Sort by column, then by row inside each column; equal keys share one entry.
-        let mut order: Vec<usize> = (0..rows.len()).collect();
-        order.sort_unstable_by_key(|&k| (cols[k], rows[k]));
+        assert!(rows.iter().chain(cols).all(|&i| (i as usize) < n), "triplet index out of range");
+        // Sort by column, then by row inside each column; equal keys share one entry. (A list's
+        // length fits 32 bits: `Triplets::push` holds it there.)
+        let key = |k: u32| (cols[k as usize], rows[k as usize]);
+        let mut order: Vec<u32> = (0..rows.len() as u32).collect();
+        order.sort_unstable_by_key(|&k| key(k));
+        let distinct = order.windows(2).filter(|w| key(w[0]) != key(w[1])).count() + usize::from(!order.is_empty());
         let mut col_ptr = vec![0usize; n + 1];
-        let mut row_idx = Vec::with_capacity(rows.len());
-        let mut map = vec![0usize; rows.len()];
-        let mut last: Option<(usize, usize)> = None;
+        let mut row_idx = Vec::with_capacity(distinct);
+        let mut map = vec![0u32; rows.len()];
+        let mut last = None;
         for &k in &order {
-            let key = (cols[k], rows[k]);
-            if last != Some(key) {
-                row_idx.push(rows[k]);
-                col_ptr[cols[k] + 1] += 1;
-                last = Some(key);
+            let (col, row) = key(k);
+            if last != Some((col, row)) {
+                row_idx.push(row as usize);
+                col_ptr[col as usize + 1] += 1;
+                last = Some((col, row));
             }
-            map[k] = row_idx.len() - 1;
+            map[k as usize] = (row_idx.len() - 1) as u32;
         }
         for j in 0..n {
             col_ptr[j + 1] += col_ptr[j];
@@ -107,13 +110,18 @@ impl CscMatrix {
     }
 }
 
-/// Triplets collected in a fixed order by the assembler.
+/// Triplets collected in a fixed order by the assembler, their indices as 32-bit numbers (a run
+/// refuses a model whose system would not fit them before it assembles anything:
+/// [`MAX_ENTRIES`]).
 #[derive(Debug, Default, Clone)]
 pub struct Triplets {
-    pub rows: Vec<usize>,
-    pub cols: Vec<usize>,
+    pub rows: Vec<u32>,
+    pub cols: Vec<u32>,
     pub values: Vec<f64>,
 }
+
+/// The most equations, and the most triplets in one list, that the assembly can index.
+pub const MAX_ENTRIES: usize = u32::MAX as usize;
 
 impl Triplets {
     /// An empty list with room for `entries`.
@@ -125,9 +133,18 @@ impl Triplets {
         }
     }
 
+    /// Add A_ij += v.
+    ///
+    /// # Panics
+    /// Beyond [`MAX_ENTRIES`] equations or entries, which a run refuses before it assembles
+    /// (`analysis::context`), so that an index is never truncated.
     pub fn push(&mut self, i: usize, j: usize, v: f64) {
-        self.rows.push(i);
-        self.cols.push(j);
+        assert!(
+            i < MAX_ENTRIES && j < MAX_ENTRIES && self.values.len() < MAX_ENTRIES,
+            "a system beyond 32-bit indices"
+        );
+        self.rows.push(i as u32);
+        self.cols.push(j as u32);
         self.values.push(v);
     }
 }
@@ -135,16 +152,18 @@ impl Triplets {
 /// Keeps the pattern of the last assembly and refills values through the map while the triplet
 /// indices stay the same.
 ///
-/// The indices it compares with and the map are kept as 32-bit numbers (half the memory of the
-/// triplets' own); a system of more than 2³² − 1 equations or entries is assembled afresh each
-/// time instead.
+/// A list whose every triplet falls on an entry of the kept pattern with the same row and column
+/// refills it (a list that lost entries keeps them as explicit zeros: the same matrix); any other
+/// list builds a new pattern. The map and each entry's column are kept as 32-bit numbers, not a copy
+/// of the list's indices.
 #[derive(Debug, Default)]
 pub struct PatternCache {
     n: usize,
-    rows: Vec<u32>,
-    cols: Vec<u32>,
     pattern: Option<Arc<CscPattern>>,
+    /// Triplet k → its entry.
     map: Vec<u32>,
+    /// Each entry's column (its row is the pattern's).
+    entry_col: Vec<u32>,
     /// How many times a pattern was computed.
     pub builds: usize,
 }
@@ -152,30 +171,17 @@ pub struct PatternCache {
 impl PatternCache {
     /// Turn triplets into a matrix. Returns the matrix and whether the pattern is new.
     pub fn assemble(&mut self, n: usize, t: &Triplets) -> (CscMatrix, bool) {
-        let compact = n <= u32::MAX as usize && t.rows.len() <= u32::MAX as usize;
-        let equal = |kept: &[u32], now: &[usize]| {
-            kept.len() == now.len() && kept.iter().zip(now).all(|(&a, &b)| a as usize == b)
-        };
-        let same = compact
-            && self.pattern.is_some()
-            && self.n == n
-            && equal(&self.rows, &t.rows)
-            && equal(&self.cols, &t.cols);
+        let same = self.refills(n, t);
         if !same {
             // the old pattern's arrays go before the new ones are made
             *self = PatternCache { builds: self.builds + 1, ..PatternCache::default() };
             let (pattern, map) = CscPattern::from_triplets(n, &t.rows, &t.cols);
-            if !compact {
-                let mut values = vec![0.0; pattern.nnz()];
-                for (&k, v) in map.iter().zip(&t.values) {
-                    values[k] += v;
-                }
-                return (CscMatrix { pattern: Arc::new(pattern), values }, true);
+            self.entry_col = vec![0; pattern.nnz()];
+            for j in 0..n {
+                self.entry_col[pattern.col_ptr[j]..pattern.col_ptr[j + 1]].fill(j as u32);
             }
             self.pattern = Some(Arc::new(pattern));
-            self.map = map.into_iter().map(|k| k as u32).collect();
-            self.rows = t.rows.iter().map(|&i| i as u32).collect();
-            self.cols = t.cols.iter().map(|&j| j as u32).collect();
+            self.map = map;
             self.n = n;
         }
         let pattern = self.pattern.clone().expect("pattern was just built");
@@ -184,6 +190,18 @@ impl PatternCache {
             values[k as usize] += v;
         }
         (CscMatrix { pattern, values }, !same)
+    }
+
+    /// Whether every triplet of `t` falls, through the kept map, on an entry of its own row and
+    /// column.
+    fn refills(&self, n: usize, t: &Triplets) -> bool {
+        let Some(pattern) = &self.pattern else { return false };
+        self.n == n
+            && self.map.len() == t.rows.len()
+            && self.map.iter().zip(t.rows.iter().zip(&t.cols)).all(|(&e, (&i, &j))| {
+                let e = e as usize;
+                pattern.row_idx[e] == i as usize && self.entry_col[e] == j
+            })
     }
 }
 
@@ -208,5 +226,26 @@ mod tests {
         assert!(!new);
         assert_eq!(cache.builds, 1);
         assert_eq!(b.to_dense(), vec![vec![2.0, 0.0], vec![1.0, 1.0]]);
+    }
+
+    #[test]
+    fn a_list_with_an_entry_moved_builds_a_new_pattern() {
+        let mut t = Triplets::default();
+        t.push(0, 0, 1.0);
+        t.push(1, 0, 2.0);
+        t.push(1, 1, 4.0);
+        let mut cache = PatternCache::default();
+        cache.assemble(2, &t);
+        // the same count of triplets, one of them in another column
+        t.cols[1] = 1;
+        let (a, new) = cache.assemble(2, &t);
+        assert!(new);
+        assert_eq!(cache.builds, 2);
+        assert_eq!(a.to_dense(), vec![vec![1.0, 0.0], vec![0.0, 6.0]]);
+        // a row moved in its column
+        t.rows[1] = 0;
+        let (b, new) = cache.assemble(2, &t);
+        assert!(new);
+        assert_eq!(b.to_dense(), vec![vec![1.0, 2.0], vec![0.0, 4.0]]);
     }
 }

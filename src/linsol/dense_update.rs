@@ -53,7 +53,12 @@ impl UpdatedLu {
         let columns: Vec<usize> =
             (0..m).filter(|&j| (0..m).any(|i| matrix[(i, j)].to_bits() != self.base[(i, j)].to_bits())).collect();
         if columns.len() as f64 > MAX_UPDATE_SHARE * m as f64 {
-            *self = UpdatedLu::new(matrix);
+            // the old matrix, update and factors go before the new factors are made: two m × m
+            // arrays at a time instead of five
+            self.update = None;
+            self.base = matrix;
+            self.lu = Mat::<f64>::zeros(0, 0).partial_piv_lu();
+            self.lu = self.base.partial_piv_lu();
             return true;
         }
         self.update = if columns.is_empty() {

@@ -85,16 +85,18 @@ impl LinearSystem {
     }
 
     /// Solve A x = b for the assembled triplets, of which `active_multipliers` rows hold a
-    /// constraint (zero diagonal). Returns x and the relative residual.
+    /// constraint (zero diagonal). Returns x and the relative residual. The list is let go once
+    /// the matrix is built, before the analysis and factorisation.
     pub fn solve(
         &mut self,
         n: usize,
-        triplets: &Triplets,
+        triplets: Triplets,
         rhs: &[f64],
         active_multipliers: usize,
     ) -> Result<(Vec<f64>, f64), Failure> {
         let t = Instant::now();
-        let (matrix, new_pattern) = self.patterns.assemble(n, triplets);
+        let (matrix, new_pattern) = self.patterns.assemble(n, &triplets);
+        drop(triplets);
         self.stats.assembly_seconds += t.elapsed().as_secs_f64();
         if new_pattern {
             let t = Instant::now();
