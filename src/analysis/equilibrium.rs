@@ -350,7 +350,9 @@ fn solve(
                 cx.system.stats.assembly_seconds += t.elapsed().as_secs_f64();
                 again
             } else {
-                singular::warn_if_ill_conditioned(&mut cx.system.stats, cx.model, dofs, state, &triplets);
+                let mut diagonal = vec![0.0; dofs.free_count];
+                singular::add_diagonal(&mut diagonal, &triplets);
+                singular::warn_if_ill_conditioned(&mut cx.system.stats, cx.model, dofs, state, &diagonal);
                 triplets
             };
             // the list goes once the matrix is built, before the factorisation
@@ -442,10 +444,20 @@ fn solve_condensed(
     let soil_key = cx.condensed.as_ref().and_then(|c| c.condensed_on()).map(|(_, key)| key);
     if soil_key.is_some() && soil_key != cx.conditioning_checked {
         cx.conditioning_checked = soil_key;
+        // the soil's diagonal from the condensed soil's matrix, the rest assembled (not the whole
+        // list again: it would sit beside the soil's factors and the interface system)
         let stiffness = &it.kept_stiffness.as_ref().expect("set by linearise").1;
         let system = linear.inputs(&cx.elements, stiffness, dofs, state);
-        let triplets = system.assemble();
-        singular::warn_if_ill_conditioned(&mut cx.system.stats, cx.model, dofs, state, &triplets);
+        let mut diagonal = vec![0.0; dofs.free_count];
+        if let Some(soil) = cx.condensed.as_ref().and_then(|c| c.linear_diagonal()) {
+            for (d, s) in diagonal.iter_mut().zip(soil) {
+                *d += s;
+            }
+            singular::add_diagonal(&mut diagonal, &system.assemble_reinforcement_and_interface());
+        } else {
+            singular::add_diagonal(&mut diagonal, &system.assemble());
+        }
+        singular::warn_if_ill_conditioned(&mut cx.system.stats, cx.model, dofs, state, &diagonal);
     }
     it.carried_element_force = None;
     // the full system's factorisation (if any) is not this iteration's matrix

@@ -136,12 +136,12 @@ pub struct StiffnessSpread {
 impl StiffnessSpread {
     pub fn of(triplets: &Triplets, dofs: &DofMap) -> Option<StiffnessSpread> {
         let mut diagonal = vec![0.0f64; dofs.free_count];
-        for ((&i, &j), &v) in triplets.rows.iter().zip(&triplets.cols).zip(&triplets.values) {
-            let i = i as usize;
-            if i == j as usize && i < dofs.free_count {
-                diagonal[i] += v;
-            }
-        }
+        add_diagonal(&mut diagonal, triplets);
+        StiffnessSpread::of_diagonal(&diagonal)
+    }
+
+    /// The spread of the displacement unknowns' diagonal.
+    pub fn of_diagonal(diagonal: &[f64]) -> Option<StiffnessSpread> {
         let positive = diagonal.iter().copied().enumerate().filter(|&(_, v)| v > 0.0 && v.is_finite());
         let softest = positive.clone().min_by(|a, b| a.1.total_cmp(&b.1))?;
         let stiffest = positive.max_by(|a, b| a.1.total_cmp(&b.1))?;
@@ -149,20 +149,25 @@ impl StiffnessSpread {
     }
 }
 
+/// Add the diagonal entries of `triplets` among the first `diagonal.len()` equations.
+pub fn add_diagonal(diagonal: &mut [f64], triplets: &Triplets) {
+    for ((&i, &j), &v) in triplets.rows.iter().zip(&triplets.cols).zip(&triplets.values) {
+        let i = i as usize;
+        if i == j as usize && i < diagonal.len() {
+            diagonal[i] += v;
+        }
+    }
+}
+
 /// Warn (once a run) when a matrix that was solved is ill-conditioned: its results carry round-off
-/// that the residual check may not show.
-pub fn warn_if_ill_conditioned(
-    stats: &mut SolverStats,
-    model: &Model,
-    dofs: &DofMap,
-    state: &State,
-    triplets: &Triplets,
-) {
+/// that the residual check may not show. `diagonal`: the matrix's diagonal over the displacement
+/// unknowns (`dofs.free_count`).
+pub fn warn_if_ill_conditioned(stats: &mut SolverStats, model: &Model, dofs: &DofMap, state: &State, diagonal: &[f64]) {
     const WARNING: &str = "the stiffness matrix is ill-conditioned";
     if stats.warnings.iter().any(|w| w.starts_with(WARNING)) {
         return;
     }
-    if let Some(spread) = StiffnessSpread::of(triplets, dofs).filter(|s| s.ratio > ILL_CONDITIONED) {
+    if let Some(spread) = StiffnessSpread::of_diagonal(diagonal).filter(|s| s.ratio > ILL_CONDITIONED) {
         let warning = format!(
             "{WARNING}: its diagonal ranges from {:.3e} at {} to {:.3e} at {} (a ratio \
              of {:.1e}, beyond the 1e12 that double precision factorises reliably); the results carry round-off: \

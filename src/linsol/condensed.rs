@@ -247,6 +247,22 @@ impl CondensedSystem {
         Ok((x, residual))
     }
 
+    /// The diagonal of the linear part L last condensed (every equation).
+    pub fn linear_diagonal(&self) -> Option<Vec<f64>> {
+        let matrix = &self.linear.as_ref()?.matrix;
+        let pattern = &matrix.pattern;
+        let mut diagonal = vec![0.0; pattern.n()];
+        for (j, d) in diagonal.iter_mut().enumerate() {
+            let entries = pattern.col_ptr()[j]..pattern.col_ptr()[j + 1];
+            for k in entries {
+                if pattern.row_idx()[k] == j {
+                    *d += matrix.values[k];
+                }
+            }
+        }
+        Some(diagonal)
+    }
+
     /// S·v on the kept unknowns: the change of the soil's force there when the kept unknowns move
     /// by v and the interior follows in balance.
     pub fn schur_times(&self, v: &[f64]) -> Vec<f64> {

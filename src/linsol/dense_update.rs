@@ -11,8 +11,11 @@
 //! (W_J: the rows J of W). Once the changed columns exceed [`MAX_UPDATE_SHARE`] of the matrix, the
 //! matrix is factorised afresh and becomes the new M₀.
 
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::lu::partial_pivoting::{factor, solve};
 use faer::linalg::solvers::{PartialPivLu, Solve};
-use faer::Mat;
+use faer::perm::PermRef;
+use faer::{get_global_parallelism, Mat};
 
 /// The largest share of the columns a low-rank update may change before a new factorisation.
 pub const MAX_UPDATE_SHARE: f64 = 0.08;
@@ -26,10 +29,65 @@ struct LowRank {
     capacitance: PartialPivLu<f64>,
 }
 
+/// An LU factorisation with partial pivoting held packed in one m × m array (L below the
+/// diagonal, its unit diagonal implied, U on and above it), as LAPACK's getrf leaves it: faer's
+/// `PartialPivLu` keeps L and U apart, two arrays and a third while it splits them.
+struct PackedLu {
+    factors: Mat<f64>,
+    forward: Vec<usize>,
+    inverse: Vec<usize>,
+}
+
+impl PackedLu {
+    /// The factors of `matrix`.
+    fn of(matrix: &Mat<f64>) -> PackedLu {
+        let m = matrix.nrows();
+        let mut lu = PackedLu { factors: Mat::zeros(m, m), forward: vec![0; m], inverse: vec![0; m] };
+        lu.refactorize(matrix);
+        lu
+    }
+
+    /// The factors of `matrix` (of the same size) in place of the last ones.
+    fn refactorize(&mut self, matrix: &Mat<f64>) {
+        let m = matrix.nrows();
+        self.factors.copy_from(matrix);
+        let par = get_global_parallelism();
+        let mut scratch = MemBuffer::new(factor::lu_in_place_scratch::<usize, f64>(m, m, par, Default::default()));
+        factor::lu_in_place(
+            self.factors.as_mut(),
+            &mut self.forward,
+            &mut self.inverse,
+            par,
+            MemStack::new(&mut scratch),
+            Default::default(),
+        );
+    }
+
+    /// M⁻¹ b.
+    fn solve(&self, b: &Mat<f64>) -> Mat<f64> {
+        let m = self.factors.nrows();
+        let mut x = b.clone();
+        let par = get_global_parallelism();
+        let mut scratch = MemBuffer::new(solve::solve_in_place_scratch::<usize, f64>(m, x.ncols(), par));
+        let permutation = PermRef::new_checked(&self.forward, &self.inverse, m);
+        // the packed array serves as both triangles: the unit-lower solve reads below the
+        // diagonal only, the upper solve on and above it
+        solve::solve_in_place(
+            self.factors.as_ref(),
+            self.factors.as_ref(),
+            permutation,
+            x.as_mut(),
+            par,
+            MemStack::new(&mut scratch),
+        );
+        x
+    }
+}
+
 pub struct UpdatedLu {
     /// M₀, the matrix factorised.
     base: Mat<f64>,
-    lu: PartialPivLu<f64>,
+    lu: PackedLu,
     /// The matrix now represented and its update, when it is not M₀.
     update: Option<(Mat<f64>, LowRank)>,
 }
@@ -37,7 +95,7 @@ pub struct UpdatedLu {
 impl UpdatedLu {
     /// Factorise `matrix`.
     pub fn new(matrix: Mat<f64>) -> UpdatedLu {
-        let lu = matrix.partial_piv_lu();
+        let lu = PackedLu::of(&matrix);
         UpdatedLu { base: matrix, lu, update: None }
     }
 
@@ -53,12 +111,10 @@ impl UpdatedLu {
         let columns: Vec<usize> =
             (0..m).filter(|&j| (0..m).any(|i| matrix[(i, j)].to_bits() != self.base[(i, j)].to_bits())).collect();
         if columns.len() as f64 > MAX_UPDATE_SHARE * m as f64 {
-            // the old matrix, update and factors go before the new factors are made: two m × m
-            // arrays at a time instead of five
+            // the old matrix and update go first, and the new factors take the old ones' array
             self.update = None;
             self.base = matrix;
-            self.lu = Mat::<f64>::zeros(0, 0).partial_piv_lu();
-            self.lu = self.base.partial_piv_lu();
+            self.lu.refactorize(&self.base);
             return true;
         }
         self.update = if columns.is_empty() {
