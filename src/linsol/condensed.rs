@@ -37,6 +37,8 @@ struct LinearPart {
 struct DensePart {
     key: u64,
     lu: UpdatedLu,
+    /// The factorisations, updates and iterations of `lu` already added to the run's counts.
+    counted: [usize; 3],
     /// The changing part the factorisation was made with: a key may stand for more than one set
     /// of values (an iteration matrix kept while the rows' coefficients move), and every solution
     /// is checked against the matrix it was solved with.
@@ -143,19 +145,16 @@ impl CondensedSystem {
             }
             match self.dense.as_mut() {
                 Some(dense) => {
-                    if dense.lu.set(a) {
-                        stats.dense_factorizations += 1;
-                    } else {
-                        stats.dense_updates += 1;
-                    }
+                    dense.lu.set(a);
                     dense.key = change_key;
                     dense.change = change.clone();
                 }
                 None => {
-                    self.dense = Some(DensePart { key: change_key, lu: UpdatedLu::new(a), change: change.clone() });
-                    stats.dense_factorizations += 1;
+                    let lu = UpdatedLu::new(a);
+                    self.dense = Some(DensePart { key: change_key, lu, counted: [0; 3], change: change.clone() });
                 }
             }
+            self.tally(stats);
             stats.dense_seconds += t.elapsed().as_secs_f64();
         }
         Ok(())
@@ -231,11 +230,12 @@ impl CondensedSystem {
         let none = || Triplets::default();
         self.prepare(stats, n, &kept, linear_key, &none, change_key, change)?;
         let t = Instant::now();
-        let dense = self.dense.as_ref().expect("prepared");
+        let dense = self.dense.as_mut().expect("prepared");
         let m = rhs_kept.len();
         let b = Mat::from_fn(m, 1, |i, _| rhs_kept[i]);
         let y = dense.lu.solve(&b);
         let r = &b - dense.lu.matrix() * &y;
+        self.tally(stats);
         let x: Vec<f64> = (0..m).map(|i| y[(i, 0)]).collect();
         let (rn, bn) = (r.norm_l2(), b.norm_l2());
         let residual = if bn > 0.0 { rn / bn } else { rn };
@@ -296,7 +296,8 @@ impl CondensedSystem {
         let t = Instant::now();
         let m = reduced.len();
         let b = Mat::from_fn(m, 1, |i, _| reduced[i]);
-        let y = self.dense.as_ref().expect("factorised before").lu.solve(&b);
+        let y = self.dense.as_mut().expect("factorised before").lu.solve(&b);
+        self.tally(stats);
         let kept_solution: Vec<f64> = (0..m).map(|i| y[(i, 0)]).collect();
         stats.dense_seconds += t.elapsed().as_secs_f64();
         let t = Instant::now();
@@ -304,6 +305,17 @@ impl CondensedSystem {
         stats.solve_seconds += t.elapsed().as_secs_f64();
         stats.solves += 1;
         Ok(x)
+    }
+
+    /// Add the dense part's factorisations, updates and iterations since the last tally to the
+    /// run's counts.
+    fn tally(&mut self, stats: &mut SolverStats) {
+        let Some(dense) = self.dense.as_mut() else { return };
+        let now = [dense.lu.factorizations, dense.lu.updates, dense.lu.iterations];
+        stats.dense_factorizations += now[0] - dense.counted[0];
+        stats.dense_updates += now[1] - dense.counted[1];
+        stats.dense_iterations += now[2] - dense.counted[2];
+        dense.counted = now;
     }
 
     /// b − (L + C) x.

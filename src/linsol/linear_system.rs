@@ -46,6 +46,9 @@ pub struct SolverStats {
     pub dense_factorizations: usize,
     /// Changes of the interface system taken as low-rank updates of its last factorisation.
     pub dense_updates: usize,
+    /// BiCGSTAB iterations on interface systems that drifted from the last factorisation (each
+    /// preconditioned by it: `linsol::dense_update`).
+    pub dense_iterations: usize,
     pub dense_seconds: f64,
     /// Unknowns the condensed system kept (the interface's), when a run condensed its soil.
     pub condensed_unknowns: Option<usize>,

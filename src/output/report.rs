@@ -266,8 +266,8 @@ fn run_history(r: &mut String, summary: &RunSummary) {
     if let Some(kept) = st.condensed_unknowns {
         let _ = writeln!(
             r,
-            "The interface iteration condensed the soil onto {kept} kept unknowns: {} dense factorisations and {} low-rank updates of the kept system ({:.3} s with its solves).",
-            st.dense_factorizations, st.dense_updates, st.dense_seconds
+            "The interface iteration condensed the soil onto {kept} kept unknowns: {} dense factorisations, {} low-rank updates and {} BiCGSTAB iterations preconditioned by the last factorisation ({:.3} s with its solves).",
+            st.dense_factorizations, st.dense_updates, st.dense_iterations, st.dense_seconds
         );
     }
 
