@@ -29,9 +29,10 @@ pub const MAX_UPDATE_SHARE: f64 = 0.08;
 pub const ITERATIVE_TOLERANCE: f64 = 1e-13;
 /// The BiCGSTAB iterations one solve may take before the matrix is factorised instead.
 pub const MAX_ITERATIONS: usize = 6;
-/// BiCGSTAB iterations (each two solves with M₀'s factors and two products with the matrix, each
-/// a pass over an m × m array) that cost about one factorisation (2m³/3 flops), as measured for
-/// m = 2280 on the project's 2-core machine (docs/performance.md): 0.3–0.4 s against ~40 ms.
+/// BiCGSTAB iterations that cost about one factorisation: each iteration is two solves with M₀'s
+/// factors and two products with the matrix (four memory-bound passes over an m × m array), a
+/// factorisation 2m³/3 flops (0.3–0.4 s at m = 2280 on the project's 2-core machine); chosen on the
+/// 10⁵-unknown pull-out benchmark (docs/performance.md).
 pub const ITERATIONS_PER_FACTORISATION: usize = 10;
 
 /// The update of the base factorisation by the changed columns J.
