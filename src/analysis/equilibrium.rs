@@ -533,9 +533,19 @@ fn apply_correction(dofs: &DofMap, state: &mut State, x: &[f64], step: f64, scal
         }
     }
     for k in 0..dofs.multipliers.len() {
-        state.lambda[k] += step * scale * x[dofs.multiplier_equation(k)];
+        state.lambda[k] = corrected_multiplier(dofs, state, x, k, step, scale);
     }
     correction2
+}
+
+/// Multiplier k after `step` times the correction: a released row's is zero, as its equation says
+/// (exactly, whatever round-off an iterative solve left in its Δλ = −λ = 0).
+fn corrected_multiplier(dofs: &DofMap, state: &State, x: &[f64], k: usize, step: f64, scale: f64) -> f64 {
+    if multiplier_is_active(&state.interfaces, dofs.multipliers[k]) {
+        state.lambda[k] + step * scale * x[dofs.multiplier_equation(k)]
+    } else {
+        0.0
+    }
 }
 
 /// After a correction: the active set and the bars' rupture, then the convergence test. Returns
@@ -692,7 +702,7 @@ fn line_search(
             }
         }
         for k in 0..dofs.multipliers.len() {
-            trial.lambda[k] = state.lambda[k] + step * scale * x[dofs.multiplier_equation(k)];
+            trial.lambda[k] = corrected_multiplier(dofs, state, x, k, step, scale);
         }
         let springs = springs::evaluate(cx.model, &trial, rows);
         let taus: Vec<f64> = springs.iter().map(|r| r.tau).collect();
