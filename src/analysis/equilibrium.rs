@@ -350,8 +350,7 @@ fn solve(
                 cx.system.stats.assembly_seconds += t.elapsed().as_secs_f64();
                 again
             } else {
-                let mut diagonal = vec![0.0; dofs.free_count];
-                singular::add_diagonal(&mut diagonal, &triplets);
+                let diagonal = singular::diagonal_of(&triplets, dofs.free_count);
                 singular::warn_if_ill_conditioned(&mut cx.system.stats, cx.model, dofs, state, &diagonal);
                 triplets
             };
@@ -448,15 +447,17 @@ fn solve_condensed(
         // list again: it would sit beside the soil's factors and the interface system)
         let stiffness = &it.kept_stiffness.as_ref().expect("set by linearise").1;
         let system = linear.inputs(&cx.elements, stiffness, dofs, state);
-        let mut diagonal = vec![0.0; dofs.free_count];
-        if let Some(soil) = cx.condensed.as_ref().and_then(|c| c.linear_diagonal()) {
-            for (d, s) in diagonal.iter_mut().zip(soil) {
-                *d += s;
+        let diagonal = match cx.condensed.as_ref().and_then(|c| c.linear_diagonal()) {
+            Some(soil) => {
+                let mut diagonal =
+                    singular::diagonal_of(&system.assemble_reinforcement_and_interface(), dofs.free_count);
+                for (d, s) in diagonal.iter_mut().zip(soil) {
+                    *d += s;
+                }
+                diagonal
             }
-            singular::add_diagonal(&mut diagonal, &system.assemble_reinforcement_and_interface());
-        } else {
-            singular::add_diagonal(&mut diagonal, &system.assemble());
-        }
+            None => singular::diagonal_of(&system.assemble(), dofs.free_count),
+        };
         singular::warn_if_ill_conditioned(&mut cx.system.stats, cx.model, dofs, state, &diagonal);
     }
     it.carried_element_force = None;

@@ -135,9 +135,7 @@ pub struct StiffnessSpread {
 
 impl StiffnessSpread {
     pub fn of(triplets: &Triplets, dofs: &DofMap) -> Option<StiffnessSpread> {
-        let mut diagonal = vec![0.0f64; dofs.free_count];
-        add_diagonal(&mut diagonal, triplets);
-        StiffnessSpread::of_diagonal(&diagonal)
+        StiffnessSpread::of_diagonal(&diagonal_of(triplets, dofs.free_count))
     }
 
     /// The spread of the displacement unknowns' diagonal.
@@ -149,14 +147,17 @@ impl StiffnessSpread {
     }
 }
 
-/// Add the diagonal entries of `triplets` among the first `diagonal.len()` equations.
-pub fn add_diagonal(diagonal: &mut [f64], triplets: &Triplets) {
+/// The diagonal of `triplets` over the first `n` equations (the displacement unknowns, when `n` is
+/// `free_count`).
+pub fn diagonal_of(triplets: &Triplets, n: usize) -> Vec<f64> {
+    let mut diagonal = vec![0.0; n];
     for ((&i, &j), &v) in triplets.rows.iter().zip(&triplets.cols).zip(&triplets.values) {
         let i = i as usize;
-        if i == j as usize && i < diagonal.len() {
+        if i == j as usize && i < n {
             diagonal[i] += v;
         }
     }
+    diagonal
 }
 
 /// Warn (once a run) when a matrix that was solved is ill-conditioned: its results carry round-off

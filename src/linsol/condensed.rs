@@ -233,11 +233,11 @@ impl CondensedSystem {
         let dense = self.dense.as_mut().expect("prepared");
         let m = rhs_kept.len();
         let b = Mat::from_fn(m, 1, |i, _| rhs_kept[i]);
-        let y = dense.lu.solve(&b);
-        let r = &b - dense.lu.matrix() * &y;
+        let (y, checked) = dense.lu.solve(&b);
+        let rn = checked.unwrap_or_else(|| (&b - dense.lu.matrix() * &y).norm_l2());
         self.tally(stats);
         let x: Vec<f64> = (0..m).map(|i| y[(i, 0)]).collect();
-        let (rn, bn) = (r.norm_l2(), b.norm_l2());
+        let bn = b.norm_l2();
         let residual = if bn > 0.0 { rn / bn } else { rn };
         stats.dense_seconds += t.elapsed().as_secs_f64();
         if !x.iter().all(|v| v.is_finite()) || !(residual < 1e-6) {
@@ -296,7 +296,7 @@ impl CondensedSystem {
         let t = Instant::now();
         let m = reduced.len();
         let b = Mat::from_fn(m, 1, |i, _| reduced[i]);
-        let y = self.dense.as_mut().expect("factorised before").lu.solve(&b);
+        let (y, _) = self.dense.as_mut().expect("factorised before").lu.solve(&b);
         self.tally(stats);
         let kept_solution: Vec<f64> = (0..m).map(|i| y[(i, 0)]).collect();
         stats.dense_seconds += t.elapsed().as_secs_f64();

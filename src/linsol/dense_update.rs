@@ -214,8 +214,9 @@ impl UpdatedLu {
         self.factorizations += 1;
     }
 
-    /// M⁻¹ b for the matrix now represented.
-    pub fn solve(&mut self, b: &Mat<f64>) -> Mat<f64> {
+    /// M⁻¹ b for the matrix now represented, and ‖b − M·x‖ when the solve computed it (an
+    /// iterative solve checks it; a direct one does not).
+    pub fn solve(&mut self, b: &Mat<f64>) -> (Mat<f64>, Option<f64>) {
         self.solves_of_this += 1;
         if self.iterations_since >= ITERATIONS_PER_FACTORISATION {
             if let Some(matrix) = self.drifted.take() {
@@ -227,9 +228,9 @@ impl UpdatedLu {
             self.iterations += iterations;
             self.iterations_since += iterations;
             match x {
-                Some(x) => {
+                Some((x, residual)) => {
                     self.iterations_per_solve = 0.5 * (self.iterations_per_solve + iterations as f64);
-                    return x;
+                    return (x, Some(residual));
                 }
                 None => {
                     let matrix = self.drifted.take().expect("checked above");
@@ -237,7 +238,7 @@ impl UpdatedLu {
                 }
             }
         }
-        self.solve_exactly(b)
+        (self.solve_exactly(b), None)
     }
 
     /// M⁻¹ b with the factors: exactly for M₀ and its low-rank update.
@@ -250,9 +251,10 @@ impl UpdatedLu {
     }
 }
 
-/// BiCGSTAB on `matrix` preconditioned by `lu` (M₀'s factors), and its iterations; no solution
-/// when it does not reach the tolerance within [`MAX_ITERATIONS`].
-fn iterate(lu: &PackedLu, matrix: &Mat<f64>, b: &Mat<f64>) -> (Option<Mat<f64>>, usize) {
+/// BiCGSTAB on `matrix` preconditioned by `lu` (M₀'s factors): the solution with its true
+/// residual norm ‖b − M·x‖, and the iterations; no solution when it does not reach the tolerance
+/// within [`MAX_ITERATIONS`].
+fn iterate(lu: &PackedLu, matrix: &Mat<f64>, b: &Mat<f64>) -> (Option<(Mat<f64>, f64)>, usize) {
     use faer::matrix_free::bicgstab::{bicgstab, bicgstab_scratch, BicgParams};
     use faer::matrix_free::{IdentityPrecond, InitialGuessStatus};
     let m = matrix.nrows();
@@ -284,9 +286,9 @@ fn iterate(lu: &PackedLu, matrix: &Mat<f64>, b: &Mat<f64>) -> (Option<Mat<f64>>,
         Err(_) => MAX_ITERATIONS,
     };
     // the recursive residual can drift from the true one: checked
-    let r = b - matrix * &x;
-    let converged = info.is_ok() && r.norm_l2() <= 10.0 * ITERATIVE_TOLERANCE * b.norm_l2();
-    (converged.then_some(x), iterations)
+    let residual = (b - matrix * &x).norm_l2();
+    let converged = info.is_ok() && residual <= 10.0 * ITERATIVE_TOLERANCE * b.norm_l2();
+    (converged.then_some((x, residual)), iterations)
 }
 
 #[cfg(test)]
@@ -317,7 +319,7 @@ mod tests {
         lu.set(changed.clone());
         assert_eq!((lu.factorizations, lu.updates), (1, 1), "three of sixty columns: an update");
         let b = Mat::from_fn(m, 1, |i, _| (i as f64 * 0.7).cos());
-        let x = lu.solve(&b);
+        let (x, _) = lu.solve(&b);
         let r = &b - &changed * &x;
         assert!(r.norm_l2() < 1e-12 * b.norm_l2(), "residual {}", r.norm_l2());
     }
@@ -330,7 +332,7 @@ mod tests {
         let moved = Mat::from_fn(m, m, |i, j| matrix(m, 0.0)[(i, j)] * (1.0 + 1e-3 * ((i * 7 + j * 3) as f64).sin()));
         lu.set(moved.clone());
         let b = Mat::from_fn(m, 1, |i, _| 1.0 + i as f64);
-        let x = lu.solve(&b);
+        let (x, _) = lu.solve(&b);
         let r = &b - &moved * &x;
         assert!(r.norm_l2() <= 10.0 * ITERATIVE_TOLERANCE * b.norm_l2(), "residual {}", r.norm_l2());
         assert_eq!(lu.factorizations, 1, "no new factorisation");
@@ -343,7 +345,7 @@ mod tests {
         let mut lu = UpdatedLu::new(matrix(m, 0.0));
         lu.set(matrix(m, 1.0));
         let b = Mat::from_fn(m, 1, |i, _| i as f64);
-        let x = lu.solve(&b);
+        let (x, _) = lu.solve(&b);
         let r = &b - &matrix(m, 1.0) * &x;
         assert!(r.norm_l2() < 1e-12 * b.norm_l2());
         // BiCGSTAB may or may not have reached the tolerance; either way the answer is exact enough,
@@ -351,7 +353,7 @@ mod tests {
         let before = lu.factorizations;
         for k in 0..ITERATIONS_PER_FACTORISATION {
             lu.set(matrix(m, 1.0 + 0.5 * (k + 1) as f64));
-            let x = lu.solve(&b);
+            let (x, _) = lu.solve(&b);
             let r = &b - &matrix(m, 1.0 + 0.5 * (k + 1) as f64) * &x;
             assert!(r.norm_l2() <= 10.0 * ITERATIVE_TOLERANCE * b.norm_l2(), "change {k}: residual {}", r.norm_l2());
         }

@@ -1,7 +1,7 @@
 //! The saved steps a run can continue from: `restart/stage-<k>-step-<nnnnn>.bin` in the results
 //! folder, one per converged step of a loading stage, each the run's [`Checkpoint`] in bincode's
 //! binary form (every number exactly as the run held it), deflated. Each is written as every result
-//! file is ([`super::write_atomically`]: a temporary file, synced, renamed into place), so a killed
+//! file is ([`super::folder::write_atomically`]: a temporary file, synced, renamed into place), so a killed
 //! run leaves no truncated saved step.
 //!
 //! `geoslip run MODEL --restart RESULTS --from STAGE:STEP` reads one back ([`read`]) and continues
@@ -13,8 +13,7 @@ use crate::model::Model;
 use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
 
-/// The folder of saved steps inside a results folder.
-pub const FOLDER: &str = "restart";
+pub use super::folder::CHECKPOINT_FOLDER as FOLDER;
 
 /// The largest saved step read back, MB (a file above it is refused before it is read).
 const LARGEST_MB: u64 = 16 * 1024;
@@ -33,7 +32,7 @@ pub fn write(results: &Path, checkpoint: &Checkpoint) -> Result<(), Error> {
     let bytes = bincode::serialize(checkpoint).map_err(|e| fail(std::io::Error::other(e.to_string())))?;
     let mut deflate = flate2::write::DeflateEncoder::new(Vec::new(), flate2::Compression::fast());
     deflate.write_all(&bytes).map_err(fail)?;
-    super::write_atomically(&path, &deflate.finish().map_err(fail)?)
+    super::folder::write_atomically(&path, &deflate.finish().map_err(fail)?)
 }
 
 /// Where the run continues from: a stage (its name, or its number from 1) and a converged step of

@@ -10,6 +10,8 @@
 //! the summary is rewritten after every step: completed steps are never lost.
 
 pub mod checkpoints;
+mod figures;
+mod folder;
 pub mod grids;
 #[cfg(feature = "hdf5")]
 pub mod hdf5_thread;
@@ -20,11 +22,16 @@ pub mod report;
 #[cfg(feature = "hdf5")]
 pub mod results_h5;
 pub mod series;
+mod summary;
 pub mod vtk;
 pub mod xdmf;
 
+use figures::{profile, StepProfile};
+use folder::{clear_earlier_run, csv_bytes, num, remove_folder, remove_partial_files, write_error};
+pub use folder::{path_component, write_atomically};
 pub use kept_steps::KeptSteps;
 pub use options::OutputOptions;
+pub use summary::{FieldFiles, RunSummary, TargetPeak, Unknowns};
 
 use crate::analysis::results::StepResults;
 use crate::analysis::{StepRecord, StepSink};
@@ -33,7 +40,6 @@ use crate::linsol::linear_system::SolverStats;
 use crate::model::file::Direction;
 use crate::model::{Model, UnitLabels};
 use kept_steps::{HeldStep, HeldSteps};
-use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -133,144 +139,6 @@ pub fn write_run_from(
     Ok(seconds)
 }
 
-/// A name from the model (a stage, a series run) as one component of a path inside the output
-/// folder: ASCII letters, digits, `-` and `_` kept, anything else (`/`, `.`, `\\`, spaces) made `-`,
-/// at most 100 characters; never empty, never `.` or `..`, never absolute.
-pub fn path_component(name: &str) -> String {
-    let safe: String = name
-        .chars()
-        .take(100)
-        .map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '_' { c } else { '-' })
-        .collect();
-    if safe.is_empty() {
-        "-".to_string()
-    } else {
-        safe
-    }
-}
-
-/// A run into a folder that holds an earlier run's results replaces them: what a run writes there
-/// (the step folders, the ParaView and HDF5 files, the summary, history, report, mesh and plots) is removed
-/// first, so that nothing of the earlier run (steps beyond this run's last, other stages) stays.
-/// The folder counts as an earlier run's only when its `summary.json` says geoslip wrote it; other
-/// files are left alone.
-fn clear_earlier_run(out: &Path) -> Result<(), Error> {
-    let summary = out.join("summary.json");
-    let written_by_geoslip = std::fs::read(&summary)
-        .ok()
-        .and_then(|bytes| serde_json::from_slice::<serde_json::Value>(&bytes).ok())
-        .is_some_and(|v| v.get("geoslip_version").is_some());
-    if !written_by_geoslip {
-        return Ok(());
-    }
-    let Ok(entries) = std::fs::read_dir(out) else { return Ok(()) };
-    let mut entries: Vec<std::fs::DirEntry> = entries.flatten().collect();
-    // the indexes first: a run killed while clearing never leaves an .xdmf or .pvd that names
-    // files already removed
-    entries.sort_by_key(|e| !["results.xdmf", "results.pvd"].contains(&e.file_name().to_string_lossy().as_ref()));
-    for entry in entries {
-        let name = entry.file_name().to_string_lossy().into_owned();
-        let path = entry.path();
-        let is_dir = entry.file_type().is_ok_and(|t| t.is_dir());
-        let ours = if is_dir {
-            is_run_folder(&name)
-        } else {
-            ["history.csv", "report.md", "results.pvd", "results.h5", "results.xdmf", "mesh.msh"]
-                .contains(&name.as_str())
-                || ((name.starts_with("pullout.") || name.starts_with("profiles-"))
-                    && (name.ends_with(".png") || name.ends_with(".svg")))
-        };
-        match (ours, is_dir) {
-            (true, true) => remove_folder(&path)?,
-            (true, false) => std::fs::remove_file(&path).map_err(write_error(&path))?,
-            _ => {}
-        }
-    }
-    // last: until it goes, a run killed while clearing leaves a folder the next run still
-    // recognises as an earlier run's
-    std::fs::remove_file(&summary).map_err(write_error(&summary))
-}
-
-/// Remove a folder so that a run killed on the way never leaves it half emptied under its own
-/// name: it is renamed to a `.partial-*` name beside it first (which the next run removes, see
-/// [`remove_partial_files`]), then removed.
-fn remove_folder(path: &Path) -> Result<(), Error> {
-    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-    let doomed = path.with_file_name(format!(".partial-removed-{name}"));
-    if doomed.exists() {
-        std::fs::remove_dir_all(&doomed).map_err(write_error(&doomed))?;
-    }
-    std::fs::rename(path, &doomed).map_err(write_error(path))?;
-    std::fs::remove_dir_all(&doomed).map_err(write_error(&doomed))
-}
-
-/// The folders a run writes in its output folder: one per stage (see `ResultWriter::step_dir`), the
-/// ParaView parts (`vtk`) and the saved steps (`restart`).
-fn is_run_folder(name: &str) -> bool {
-    name.starts_with("stage-") || name == "vtk" || name == checkpoints::FOLDER
-}
-
-/// The error of a failed write to `path`.
-fn write_error(path: &Path) -> impl FnOnce(std::io::Error) -> Error + '_ {
-    move |source| Error::Write { path: path.to_path_buf(), source }
-}
-
-/// Remove what a run killed while writing left behind in `out`: the `.partial-*` files and step
-/// folders that geoslip writes before renaming them into place, in `out` itself and in the folders
-/// a run writes there (`stage-*`, `vtk`); nothing deeper, and nothing else.
-fn remove_partial_files(out: &Path) -> Result<(), Error> {
-    let Ok(entries) = std::fs::read_dir(out) else { return Ok(()) };
-    for entry in entries.flatten() {
-        let name = entry.file_name().to_string_lossy().into_owned();
-        let path = entry.path();
-        let is_dir = entry.file_type().is_ok_and(|t| t.is_dir());
-        if name.starts_with(".partial-") {
-            if is_dir {
-                std::fs::remove_dir_all(&path).map_err(write_error(&path))?;
-            } else {
-                std::fs::remove_file(&path).map_err(write_error(&path))?;
-            }
-        } else if is_dir && is_run_folder(&name) {
-            remove_partial_files(&path)?;
-        }
-    }
-    Ok(())
-}
-
-/// Write `bytes` to `path` atomically (temporary file + rename).
-///
-/// # Errors
-/// [`Error::Write`] naming the path.
-pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), Error> {
-    let dir = path.parent().unwrap_or(Path::new("."));
-    let fail = |source: std::io::Error| Error::Write { path: path.to_path_buf(), source };
-    std::fs::create_dir_all(dir).map_err(fail)?;
-    // A result file is as readable as any file the user makes (0666 less the umask), not owner-only
-    // as a temporary file is by default.
-    let mut builder = tempfile::Builder::new();
-    #[cfg(unix)]
-    builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
-    let mut tmp = builder.prefix(".partial-").tempfile_in(dir).map_err(fail)?;
-    tmp.write_all(bytes).map_err(fail)?;
-    tmp.as_file().sync_all().map_err(fail)?;
-    tmp.persist(path).map_err(|e| fail(e.error))?;
-    Ok(())
-}
-
-fn csv_bytes(header: &[String], rows: impl Iterator<Item = Vec<String>>) -> Vec<u8> {
-    let mut w = csv::Writer::from_writer(Vec::new());
-    // Writing to memory cannot fail.
-    w.write_record(header).expect("in-memory CSV");
-    for r in rows {
-        w.write_record(&r).expect("in-memory CSV");
-    }
-    w.into_inner().expect("in-memory CSV")
-}
-
-fn num(v: f64) -> String {
-    format!("{v:.10e}")
-}
-
 /// A prescribed target followed through the run: its mean displacement and total reaction.
 struct Target {
     label: String,
@@ -280,17 +148,6 @@ struct Target {
 
 /// Writes each step under `<out>/stage-<k>-<name>/step-<nnn>/` and keeps `summary.json` and
 /// `history.csv` current.
-/// The peak reaction of one prescribed target (a pull-out force, a footing load).
-#[derive(Debug, Clone, serde::Serialize)]
-pub struct TargetPeak {
-    pub label: String,
-    pub direction: Direction,
-    /// |reaction| at its largest [force per metre width].
-    pub reaction: f64,
-    /// Mean displacement of the target there [length].
-    pub displacement: f64,
-}
-
 pub struct ResultWriter {
     out: PathBuf,
     units: UnitLabels,
@@ -324,75 +181,6 @@ pub struct ResultWriter {
     /// stage's).
     stage_ends: Vec<Option<f64>>,
     pub summary: RunSummary,
-}
-
-/// T(x), u(x), τ(x) and σn(x) along one reinforcement at one step.
-#[derive(Debug, Clone)]
-struct ReinforcementProfile {
-    tension: Vec<(f64, f64)>,
-    displacement: Vec<(f64, f64)>,
-    shear: Vec<(f64, f64)>,
-    normal: Vec<(f64, f64)>,
-    /// Which face τ and σn are of: `upper face`, or `each face` of an embedded reinforcement.
-    face: &'static str,
-}
-
-#[derive(Debug, Clone)]
-struct StepProfile {
-    label: String,
-    reinforcements: Vec<ReinforcementProfile>,
-}
-
-/// The JSON run summary.
-#[derive(Debug, Clone, serde::Serialize)]
-pub struct RunSummary {
-    pub geoslip_version: &'static str,
-    pub model: String,
-    pub title: String,
-    /// `running`, `completed` or `failed`.
-    pub status: String,
-    pub error: Option<String>,
-    pub solver: String,
-    pub units: serde_json::Value,
-    pub unknowns: Unknowns,
-    pub notes: Vec<String>,
-    /// What happened along the way: slip starting, the whole interface sliding, a drop of a
-    /// prescribed target's reaction (softening, snap-back under displacement control, pull-out).
-    pub events: Vec<String>,
-    /// Factors of safety found by strength-reduction stages.
-    pub factors_of_safety: Vec<crate::analysis::FactorOfSafety>,
-    /// Where the fields of the kept steps are.
-    pub fields: FieldFiles,
-    pub steps: Vec<StepRecord>,
-    pub solver_stats: SolverStats,
-    pub total_seconds: f64,
-    /// Time in the result writer: the field files, history, summary, report and plots.
-    pub write_seconds: f64,
-}
-
-/// The files that hold the fields of the kept steps.
-#[derive(Debug, Clone, serde::Serialize)]
-pub struct FieldFiles {
-    /// `results.h5` and `results.xdmf`, `results.pvd` (with `vtk/*.vtu`), or both.
-    pub files: Vec<String>,
-    /// Whether each kept step's fields are in CSV files too (`stage-<k>-<name>/step-<nnn>/`).
-    pub csv: bool,
-    /// Which steps are kept: `every`, `events` or N (every N-th step and the events).
-    pub keep: String,
-    /// The precision of the step fields in `results.h5`: `single` or `double` (absent from a
-    /// build without it).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub precision: Option<&'static str>,
-    /// The kept steps, by their number over the run (1, 2, …; the `Time` in `results.xdmf`).
-    pub kept_steps: Vec<usize>,
-}
-
-#[derive(Debug, Clone, serde::Serialize)]
-pub struct Unknowns {
-    pub nodes: usize,
-    pub soil_elements: usize,
-    pub bars: usize,
-    pub interface_points: usize,
 }
 
 impl ResultWriter {
@@ -594,7 +382,7 @@ impl ResultWriter {
         }
         self.summary.total_seconds = seconds;
         self.write_summary()?;
-        let figures = self.write_plots()?;
+        let figures = self.figures().write()?;
         let report = report::markdown(model, &self.summary, &self.history, &self.units, &figures);
         write_atomically(&self.out.join("report.md"), report.as_bytes())?;
         // once more, with the time the writer took to the end
@@ -917,120 +705,30 @@ impl StepSink for ResultWriter {
     }
 }
 
-fn profile(name: &str, nodes: &std::collections::HashSet<u64>, r: &StepResults) -> ReinforcementProfile {
-    let mut tension: Vec<(f64, f64)> = r
-        .bar_forces
-        .iter()
-        .filter(|b| nodes.contains(&b.nodes[0]) && nodes.contains(&b.nodes[1]))
-        .map(|b| (b.midpoint[0], b.axial_force))
-        .collect();
-    let mut displacement: Vec<(f64, f64)> =
-        r.displacements.iter().filter(|(id, _, _)| nodes.contains(id)).map(|(_, x, u)| (x[0], u[0])).collect();
-    let upper = |p: &&crate::analysis::results::InterfacePointResult| {
-        p.interface == name && (p.face == "upper" || p.face == "embedded") && p.state != "outside"
-    };
-    let mut shear: Vec<(f64, f64)> = r.interface_points.iter().filter(upper).map(|p| (p.x[0], p.tau)).collect();
-    let mut normal: Vec<(f64, f64)> =
-        r.interface_points.iter().filter(upper).filter(|p| p.tributary > 0.0).map(|p| (p.x[0], p.sigma_n)).collect();
-    for v in [&mut tension, &mut displacement, &mut shear, &mut normal] {
-        v.sort_by(|a, b| a.0.total_cmp(&b.0));
-    }
-    let face = if r.interface_points.iter().any(|p| p.interface == name && p.face == "embedded") {
-        "each face"
-    } else {
-        "upper face"
-    };
-    ReinforcementProfile { tension, displacement, shear, normal, face }
-}
-
 impl ResultWriter {
-    /// The pull-out curves and the profiles along each reinforcement; returns the figure stems.
-    fn write_plots(&self) -> Result<Vec<(String, String)>, Error> {
-        let u = &self.units;
-        let mut figures = Vec::new();
-        // pull-out curves: one panel per prescribed target
-        let mut panels = Vec::new();
-        for t in &self.targets {
-            let dir = if t.direction == Direction::X { "x" } else { "y" };
-            let signed: Vec<(f64, f64)> = self
-                .history
-                .iter()
-                .filter(|h| h[3] == t.label && h[4] == dir)
-                .filter_map(|h| Some((h[5].parse::<f64>().ok()?, h[6].parse::<f64>().ok()?)))
-                .collect();
-            // a monotonic pull is drawn as magnitudes; a displacement that changes sign (cyclic
-            // loading) is drawn with its signs, so that the loops show
-            let largest = signed.iter().fold(0.0f64, |a, p| a.max(p.0.abs()));
-            // (1 % of the largest either way: the small opposite movement of a head under the
-            // confining stage is not a reversal)
-            let both_ways = signed.iter().any(|p| p.0 > 0.01 * largest) && signed.iter().any(|p| p.0 < -0.01 * largest);
-            let (points, bars) = if both_ways {
-                (signed, ("", ""))
-            } else {
-                (signed.into_iter().map(|(x, y)| (x.abs(), y.abs())).collect(), ("|", "|"))
-            };
-            panels.push(plots::Panel {
-                title: format!("{} ({dir}): force against displacement", t.label),
-                x_label: format!("{}displacement{} [{}]", bars.0, bars.1, u.length),
-                y_label: format!("{}reaction{} [{}]", bars.0, bars.1, u.force_per_width),
-                series: vec![(String::new(), points)],
-                markers_only: Vec::new(),
-            });
-        }
-        if !panels.is_empty() {
-            plots::write_figure(&self.out, "pullout", &panels, panels.len().min(2))?;
-            figures.push(("pullout".to_string(), "Force against displacement of each prescribed target".to_string()));
-        }
-        // profiles at the marked steps and the last one
-        let mut chosen: Vec<usize> = self.marked_steps.clone();
-        if let Some(last) = self.profiles.len().checked_sub(1) {
-            chosen.push(last);
-        }
-        chosen.sort_unstable();
-        chosen.dedup();
-        for (k, (name, _)) in self.reinforcements.iter().enumerate() {
-            let series = |pick: &dyn Fn(&ReinforcementProfile) -> Vec<(f64, f64)>| -> Vec<plots::Series> {
-                chosen
+    /// What the figures are drawn from: the history of each prescribed target, the profiles.
+    fn figures(&self) -> figures::Figures<'_> {
+        let curves = self
+            .targets
+            .iter()
+            .map(|t| {
+                let dir = if t.direction == Direction::X { "x" } else { "y" };
+                let points = self
+                    .history
                     .iter()
-                    .map(|&s| (self.profiles[s].label.clone(), pick(&self.profiles[s].reinforcements[k])))
-                    .collect()
-            };
-            let x = format!("x at the reference position [{}]", u.length);
-            let face = chosen.last().map_or("upper face", |&s| self.profiles[s].reinforcements[k].face);
-            let panels = vec![
-                plots::Panel {
-                    title: format!("{name}: tension T(x)"),
-                    x_label: x.clone(),
-                    y_label: format!("T [{}]", u.force_per_width),
-                    series: series(&|p| p.tension.clone()),
-                    markers_only: Vec::new(),
-                },
-                plots::Panel {
-                    title: format!("{name}: displacement u(x)"),
-                    x_label: x.clone(),
-                    y_label: format!("ux [{}]", u.length),
-                    series: series(&|p| p.displacement.clone()),
-                    markers_only: Vec::new(),
-                },
-                plots::Panel {
-                    title: format!("{name}: shear stress τ(x), {face}"),
-                    x_label: x.clone(),
-                    y_label: format!("τ [{}]", u.stress),
-                    series: series(&|p| p.shear.clone()),
-                    markers_only: Vec::new(),
-                },
-                plots::Panel {
-                    title: format!("{name}: normal stress σn(x), {face}"),
-                    x_label: x,
-                    y_label: format!("σn [{}]", u.stress),
-                    series: series(&|p| p.normal.clone()),
-                    markers_only: Vec::new(),
-                },
-            ];
-            let stem = format!("profiles-{}", name.replace(|c: char| !c.is_ascii_alphanumeric() && c != '-', "-"));
-            plots::write_figure(&self.out, &stem, &panels, 2)?;
-            figures.push((stem, format!("T(x), u(x), τ(x) and σn(x) along {name}")));
+                    .filter(|h| h[3] == t.label && h[4] == dir)
+                    .filter_map(|h| Some((h[5].parse::<f64>().ok()?, h[6].parse::<f64>().ok()?)))
+                    .collect();
+                (t.label.as_str(), dir, points)
+            })
+            .collect();
+        figures::Figures {
+            out: &self.out,
+            units: &self.units,
+            curves,
+            profiles: &self.profiles,
+            marked_steps: &self.marked_steps,
+            reinforcements: self.reinforcements.iter().map(|(name, _)| name.as_str()).collect(),
         }
-        Ok(figures)
     }
 }

@@ -2,7 +2,7 @@
 //! font library is needed): the pull-out curve of each prescribed target, and T(x), u(x), τ(x) and
 //! σn(x) along each reinforcement at chosen steps (the paper's Figs. 5, 6, 8, 9 and 10).
 
-use super::write_atomically;
+use super::folder::write_atomically;
 use crate::error::Error;
 use plotters::coord::Shift;
 use plotters::prelude::*;

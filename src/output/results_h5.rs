@@ -35,9 +35,9 @@
 //! `running`. The next run into the folder removes both files (`clear_earlier_run`). A run writes
 //! this file on a thread of its own (`hdf5_thread.rs`), in the same order.
 
+use super::folder::write_atomically;
 use super::grids::{GridLayout, StepGrids};
 use super::options::FieldPrecision;
-use super::write_atomically;
 use super::xdmf::{self, Center, DataRef, Field, GridStep, KeptStep, NumberType, Topology, TopologyType};
 use crate::analysis::StepRecord;
 use crate::error::Error;
@@ -154,7 +154,7 @@ impl Hdf5Results {
 
         let soil = new_group(&mesh, "soil").map_err(&fail)?;
         let x: Vec<f64> = layout.node_x.iter().flat_map(|p| [p[0], p[1], 0.0]).collect();
-        let soil_geometry = writer.array(&soil, "geometry", &x, 3, Some(units.length)).map_err(&fail)?;
+        let soil_geometry = writer.table(&soil, "geometry", &x, 3, Some(units.length), Chunks::ByRow).map_err(&fail)?;
 
         let reinforcement = if layout.bar_cells.is_empty() {
             None
@@ -162,9 +162,9 @@ impl Hdf5Results {
             let group = new_group(&mesh, "reinforcement").map_err(&fail)?;
             let x: Vec<f64> =
                 layout.bar_nodes.iter().flat_map(|&n| [layout.node_x[n][0], layout.node_x[n][1], 0.0]).collect();
-            let geometry = writer.array(&group, "geometry", &x, 3, Some(units.length)).map_err(&fail)?;
+            let geometry = writer.table(&group, "geometry", &x, 3, Some(units.length), Chunks::ByRow).map_err(&fail)?;
             let cells: Vec<i64> = layout.bar_cells.iter().flat_map(|c| [c[0] as i64, c[1] as i64]).collect();
-            let data = writer.array(&group, "topology", &cells, 2, None).map_err(&fail)?;
+            let data = writer.table(&group, "topology", &cells, 2, None, Chunks::ByRow).map_err(&fail)?;
             Some((geometry, Topology { kind: TopologyType::Polyline, cells: layout.bar_cells.len(), data }))
         };
 
@@ -372,8 +372,8 @@ impl Hdf5Results {
         let k = self.soil_topologies.len() + 1;
         let present = &grids.soil.present;
         let w = ArrayWriter { compress: self.compress, precision: self.precision };
-        let element_id = w.array(&group, &format!("element_id-{k}"), &grids.soil.element_id, 1, None)?;
-        let material = w.array(&group, &format!("material-{k}"), &grids.soil.material, 1, None)?;
+        let element_id = w.table(&group, &format!("element_id-{k}"), &grids.soil.element_id, 1, None, Chunks::ByRow)?;
+        let material = w.table(&group, &format!("material-{k}"), &grids.soil.material, 1, None, Chunks::ByRow)?;
         let name = format!("topology-{k}");
         let kinds: Vec<SolidKind> = present.iter().map(|&i| layout.soil_cells[i].0).collect();
         let single = kinds.first().filter(|k| kinds.iter().all(|other| other == *k));
@@ -382,7 +382,7 @@ impl Hdf5Results {
                 let per_cell = layout.soil_cells[present[0]].1.len();
                 let cells: Vec<i64> =
                     present.iter().flat_map(|&i| layout.soil_cells[i].1.iter().map(|&n| n as i64)).collect();
-                (TopologyType::of(kind), w.array(&group, &name, &cells, per_cell, None)?)
+                (TopologyType::of(kind), w.table(&group, &name, &cells, per_cell, None, Chunks::ByRow)?)
             }
             None => {
                 let mut cells = Vec::new();
@@ -391,7 +391,7 @@ impl Hdf5Results {
                     cells.push(TopologyType::mixed_id(*kind));
                     cells.extend(nodes.iter().map(|&n| n as i64));
                 }
-                (TopologyType::Mixed, w.array(&group, &name, &cells, 1, None)?)
+                (TopologyType::Mixed, w.table(&group, &name, &cells, 1, None, Chunks::ByRow)?)
             }
         };
         Ok(SoilCells { topology: Topology { kind, cells: present.len(), data }, element_id, material })
@@ -415,8 +415,16 @@ impl Hdf5Results {
                 center: Center::Cell,
                 data: w.field(&group, "axial_force", &g.axial_force, 1, Some(&self.units.force_per_width))?,
             },
-            Field { name: "state", center: Center::Cell, data: w.array(&group, "state", &g.state, 1, None)? },
-            Field { name: "bar_id", center: Center::Cell, data: w.array(&group, "bar_id", &g.bar_id, 1, None)? },
+            Field {
+                name: "state",
+                center: Center::Cell,
+                data: w.table(&group, "state", &g.state, 1, None, Chunks::ByRow)?,
+            },
+            Field {
+                name: "bar_id",
+                center: Center::Cell,
+                data: w.table(&group, "bar_id", &g.bar_id, 1, None, Chunks::ByRow)?,
+            },
         ];
         Ok(Some(GridStep { topology: topology.clone(), geometry: geometry.clone(), fields }))
     }
@@ -437,9 +445,10 @@ impl Hdf5Results {
                 };
                 let w = ArrayWriter { compress: self.compress, precision: self.precision };
                 let x: Vec<f64> = g.x.iter().flat_map(|p| [p[0], p[1], 0.0]).collect();
-                let geometry = w.array(&group, &format!("geometry-{k}"), &x, 3, Some(self.units.length))?;
+                let geometry =
+                    w.table(&group, &format!("geometry-{k}"), &x, 3, Some(self.units.length), Chunks::ByRow)?;
                 let vertices: Vec<i64> = (0..g.x.len() as i64).collect();
-                let data = w.array(&group, &format!("topology-{k}"), &vertices, 1, None)?;
+                let data = w.table(&group, &format!("topology-{k}"), &vertices, 1, None, Chunks::ByRow)?;
                 let topology = Topology { kind: TopologyType::Polyvertex, cells: g.x.len(), data };
                 self.interface_meshes.push((g.x.clone(), geometry.clone(), topology.clone()));
                 (geometry, topology)
@@ -454,7 +463,7 @@ impl Hdf5Results {
         let u = &self.units;
         let (length, stress) = (Some(u.length), Some(u.stress.as_str()));
         let node = |name: &'static str, data: DataRef| Field { name, center: Center::Node, data };
-        let face = w.array(&group, "face", &g.face, 1, None)?;
+        let face = w.table(&group, "face", &g.face, 1, None, Chunks::ByRow)?;
         let fields = vec![
             node("displacement", w.field(&group, "displacement", &g.displacement.concat(), 3, length)?),
             node("lambda", w.field(&group, "lambda", &g.lambda, 1, Some(&u.force_per_width))?),
@@ -463,7 +472,7 @@ impl Hdf5Results {
             node("bearing", w.field(&group, "bearing", &g.bearing, 1, stress)?),
             node("dilation", w.field(&group, "dilation", &g.dilation, 1, length)?),
             node("slip", w.field(&group, "slip", &g.slip, 1, length)?),
-            node("state", w.array(&group, "state", &g.state, 1, None)?),
+            node("state", w.table(&group, "state", &g.state, 1, None, Chunks::ByRow)?),
             node("face", face.clone()),
             // one vertex cell per point: the cells' face is the points'
             Field { name: "face", center: Center::Cell, data: face },
@@ -492,6 +501,15 @@ impl Stored for u64 {
     const NUMBER: NumberType = NumberType::UInt8;
 }
 
+/// How a compressed dataset is cut into chunks.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Chunks {
+    /// Whole rows a chunk: the mesh, the ids, the states.
+    ByRow,
+    /// Each column a chunk of its own, shuffled before it is deflated: the step fields.
+    ByColumn,
+}
+
 /// Writes datasets, chunked and compressed when the library can.
 struct ArrayWriter {
     compress: bool,
@@ -500,20 +518,7 @@ struct ArrayWriter {
 
 impl ArrayWriter {
     /// `data` as a `rows × columns` dataset `name` of `group` (one-dimensional for one column),
-    /// with its `unit` as an attribute.
-    fn array<T: Stored>(
-        &self,
-        group: &Group,
-        name: &str,
-        data: &[T],
-        columns: usize,
-        unit: Option<&str>,
-    ) -> hdf5::Result<DataRef> {
-        self.table(group, name, data, columns, unit, false)
-    }
-
-    /// `data` as a `rows × columns` dataset; `by_column`: each column a chunk of its own, shuffled
-    /// before it is deflated.
+    /// with its `unit` as an attribute, chunked as `chunks` says.
     fn table<T: Stored>(
         &self,
         group: &Group,
@@ -521,8 +526,9 @@ impl ArrayWriter {
         data: &[T],
         columns: usize,
         unit: Option<&str>,
-        by_column: bool,
+        chunks: Chunks,
     ) -> hdf5::Result<DataRef> {
+        let by_column = chunks == Chunks::ByColumn;
         let rows = data.len() / columns.max(1);
         let dims = if columns == 1 { vec![rows] } else { vec![rows, columns] };
         let mut builder = group.new_dataset::<T>().shape(dims.clone());
@@ -559,11 +565,11 @@ impl ArrayWriter {
         unit: Option<&str>,
     ) -> hdf5::Result<DataRef> {
         match self.precision {
-            FieldPrecision::Double => self.table(group, name, data, columns, unit, true),
+            FieldPrecision::Double => self.table(group, name, data, columns, unit, Chunks::ByColumn),
             FieldPrecision::Single => {
                 // each value rounded to the nearest single-precision number
                 let single: Vec<f32> = data.iter().map(|&v| v as f32).collect();
-                self.table(group, name, &single, columns, unit, true)
+                self.table(group, name, &single, columns, unit, Chunks::ByColumn)
             }
         }
     }

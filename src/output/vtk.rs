@@ -6,8 +6,8 @@
 //! Points sit at their reference positions; ParaView's *Warp By Vector* on `displacement` shows the
 //! deformed shape.
 
+use super::folder::write_atomically;
 use super::grids::{GridLayout, StepGrids};
-use super::write_atomically;
 use crate::error::Error;
 use crate::model::file::SolidKind;
 use std::path::{Path, PathBuf};

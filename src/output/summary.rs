@@ -1,0 +1,68 @@
+//! `summary.json`: what a run was, how it went and where its results are.
+
+use crate::analysis::StepRecord;
+use crate::linsol::linear_system::SolverStats;
+use crate::model::file::Direction;
+
+/// The peak reaction of one prescribed target (a pull-out force, a footing load).
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct TargetPeak {
+    pub label: String,
+    pub direction: Direction,
+    /// |reaction| at its largest [force per metre width].
+    pub reaction: f64,
+    /// Mean displacement of the target there [length].
+    pub displacement: f64,
+}
+
+/// The JSON run summary.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct RunSummary {
+    pub geoslip_version: &'static str,
+    pub model: String,
+    pub title: String,
+    /// `running`, `completed` or `failed`.
+    pub status: String,
+    pub error: Option<String>,
+    pub solver: String,
+    pub units: serde_json::Value,
+    pub unknowns: Unknowns,
+    pub notes: Vec<String>,
+    /// What happened along the way: slip starting, the whole interface sliding, a drop of a
+    /// prescribed target's reaction (softening, snap-back under displacement control, pull-out).
+    pub events: Vec<String>,
+    /// Factors of safety found by strength-reduction stages.
+    pub factors_of_safety: Vec<crate::analysis::FactorOfSafety>,
+    /// Where the fields of the kept steps are.
+    pub fields: FieldFiles,
+    pub steps: Vec<StepRecord>,
+    pub solver_stats: SolverStats,
+    pub total_seconds: f64,
+    /// Time in the result writer: the field files, history, summary, report and plots.
+    pub write_seconds: f64,
+}
+
+/// The files that hold the fields of the kept steps.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct FieldFiles {
+    /// `results.h5` and `results.xdmf`, `results.pvd` (with `vtk/*.vtu`), or both.
+    pub files: Vec<String>,
+    /// Whether each kept step's fields are in CSV files too (`stage-<k>-<name>/step-<nnn>/`).
+    pub csv: bool,
+    /// Which steps are kept: `every`, `events` or N (every N-th step and the events).
+    pub keep: String,
+    /// The precision of the step fields in `results.h5`: `single` or `double` (absent from a
+    /// build without it).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub precision: Option<&'static str>,
+    /// The kept steps, by their number over the run (1, 2, …; the `Time` in `results.xdmf`).
+    pub kept_steps: Vec<usize>,
+}
+
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct Unknowns {
+    pub nodes: usize,
+    pub soil_elements: usize,
+    pub bars: usize,
+    pub interface_points: usize,
+}
