@@ -66,6 +66,9 @@ pub struct PulloutMeasurement {
     pub iterations: usize,
     pub factorizations: usize,
     pub dense_factorizations: usize,
+    /// BiCGSTAB iterations on the dense interface system while it drifts.
+    #[serde(default)]
+    pub dense_iterations: usize,
     pub solves: usize,
     pub output_seconds: f64,
     /// The same run in the same process with no result files (the head force kept in memory).
@@ -160,6 +163,7 @@ pub fn measure_pullout(
             m.iterations = s.iterations;
             m.factorizations = s.factorizations;
             m.dense_factorizations = s.dense_factorizations;
+            m.dense_iterations = s.dense_iterations;
             m.solves = s.solves;
             m.output_seconds = s.output_seconds;
             m.kept = s.condensed_unknowns;
@@ -243,8 +247,8 @@ pub fn bench_pullout(
         backend.name()
     );
     println!();
-    println!("| unknowns | scheme | condensed (kept) | first iterate | wall [s] | factorisation [s] | solve [s] | wall / (factorisation + {PULL_STEPS} solves) | iterations / step | factorisations | dense LUs | solves | wall, no files written [s] | output share | output [MB] | peak RSS [MiB] | head force [kN/m] |");
-    println!("|---:|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
+    println!("| unknowns | scheme | condensed (kept) | first iterate | wall [s] | factorisation [s] | solve [s] | wall / (factorisation + {PULL_STEPS} solves) | iterations / step | factorisations | dense LUs | dense iterations | solves | wall, no files written [s] | output share | output [MB] | peak RSS [MiB] | head force [kN/m] |");
+    println!("|---:|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
     for &size in sizes {
         for &(scheme, condense, extrapolation) in variants {
             let scheme_name = match scheme {
@@ -279,7 +283,7 @@ pub fn bench_pullout(
                 continue;
             }
             println!(
-                "| {} | {} | {} | {} | {:.2} | {:.3} | {:.4} | {:.2} | {:.2} | {} | {} | {} | {:.2} | {:.1} % | {:.1} | {:.0} | {:.4} |",
+                "| {} | {} | {} | {} | {:.2} | {:.3} | {:.4} | {:.2} | {:.2} | {} | {} | {} | {} | {:.2} | {:.1} % | {:.1} | {:.0} | {:.4} |",
                 m.unknowns,
                 scheme_name,
                 match (m.condensed, m.kept) {
@@ -295,6 +299,7 @@ pub fn bench_pullout(
                 m.iterations as f64 / (m.pull_steps.max(1) + 1) as f64,
                 m.factorizations,
                 m.dense_factorizations,
+                m.dense_iterations,
                 m.solves,
                 m.unwritten_wall_seconds,
                 100.0 * m.output_share(),

@@ -46,12 +46,44 @@ pub fn bar_state_code(state: &str) -> i32 {
     }
 }
 
+/// Node or element id → position in the mesh's list. Every step looks up each node and Gauss
+/// point (10⁵ of them at 10⁵ unknowns): ids numbered from about 1 up, as Gmsh and the mesh
+/// generator number them, are looked up in an array; scattered ids (more than twice the count
+/// apart) in a hash map.
+enum IdIndex {
+    Dense(Vec<Option<u32>>),
+    Scattered(HashMap<u64, usize>),
+}
+
+impl IdIndex {
+    fn new(ids: impl Iterator<Item = u64> + Clone) -> IdIndex {
+        let count = ids.clone().count();
+        let largest = ids.clone().max().unwrap_or(0);
+        if largest <= 2 * count as u64 + 1024 && count <= u32::MAX as usize {
+            let mut position = vec![None; largest as usize + 1];
+            for (i, id) in ids.enumerate() {
+                position[id as usize] = Some(i as u32);
+            }
+            IdIndex::Dense(position)
+        } else {
+            IdIndex::Scattered(ids.enumerate().map(|(i, id)| (id, i)).collect())
+        }
+    }
+
+    fn get(&self, id: u64) -> Option<usize> {
+        match self {
+            IdIndex::Dense(position) => position.get(usize::try_from(id).ok()?).copied().flatten().map(|i| i as usize),
+            IdIndex::Scattered(map) => map.get(&id).copied(),
+        }
+    }
+}
+
 /// The grids' fixed parts, taken from the model once.
 pub struct GridLayout {
     /// Each mesh node's reference position: the soil grid's points, in mesh order.
     pub node_x: Vec<[f64; 2]>,
     /// Node id → position in the mesh's node list.
-    node_index: HashMap<u64, usize>,
+    node_index: IdIndex,
     /// Each soil element: its kind and its mesh node indices (corners, then mid-sides, as VTK and
     /// XDMF list them).
     pub soil_cells: Vec<(SolidKind, Vec<usize>)>,
@@ -59,7 +91,7 @@ pub struct GridLayout {
     pub soil_material: Vec<i32>,
     pub soil_ids: Vec<u64>,
     /// Soil element id → position in `soil_ids`.
-    soil_row: HashMap<u64, usize>,
+    soil_row: IdIndex,
     /// The reinforcement grid's points: the mesh nodes of the bars, in order of first appearance.
     pub bar_nodes: Vec<usize>,
     /// Each bar's two points (indices into `bar_nodes`).
@@ -145,11 +177,11 @@ impl GridLayout {
             .collect();
         GridLayout {
             node_x: mesh.nodes.iter().map(|n| n.x).collect(),
-            node_index: mesh.nodes.iter().enumerate().map(|(i, n)| (n.id, i)).collect(),
+            node_index: IdIndex::new(mesh.nodes.iter().map(|n| n.id)),
             soil_cells: mesh.solids.iter().map(|s| (s.kind, s.nodes.clone())).collect(),
             soil_material: mesh.solids.iter().map(|s| s.material as i32).collect(),
             soil_ids: mesh.solids.iter().map(|s| s.id).collect(),
-            soil_row: mesh.solids.iter().enumerate().map(|(i, s)| (s.id, i)).collect(),
+            soil_row: IdIndex::new(mesh.solids.iter().map(|s| s.id)),
             bar_nodes,
             bar_cells,
         }
@@ -159,7 +191,7 @@ impl GridLayout {
     pub fn step(&self, r: &StepResults) -> StepGrids {
         let mut u = vec![[0.0; 3]; self.node_x.len()];
         for (id, _, d) in &r.displacements {
-            if let Some(&i) = self.node_index.get(id) {
+            if let Some(i) = self.node_index.get(*id) {
                 u[i] = [d[0], d[1], 0.0];
             }
         }
@@ -175,7 +207,7 @@ impl GridLayout {
         let mut plastic = vec![0.0; n];
         let mut plastic_strain = vec![0.0; n];
         for g in &r.stresses {
-            let Some(&i) = self.soil_row.get(&g.element) else { continue };
+            let Some(i) = self.soil_row.get(g.element) else { continue };
             pore[i] += g.pore_pressure;
             plastic[i] += if g.yield_state.is_plastic() { 1.0 } else { 0.0 };
             plastic_strain[i] += g.plastic_strain;
@@ -231,7 +263,7 @@ impl GridLayout {
             }
             face.push(f);
         }
-        let node = |id: u64| self.node_index.get(&id).copied();
+        let node = |id: u64| self.node_index.get(id);
         InterfaceGrid {
             x: points.iter().map(|p| node(p.slave_node).map_or(p.x, |n| self.node_x[n])).collect(),
             displacement: points.iter().map(|p| node(p.slave_node).map_or([0.0; 3], |n| u[n])).collect(),
