@@ -16,12 +16,12 @@
 //! does) so a condensed solve is never less accurate than a direct one.
 
 use super::csc::{CscMatrix, PatternCache, Triplets};
-use super::dense_update::UpdatedLu;
+use super::dense_update::{KeptMatrix, SparseColumns, UpdatedLu};
 use super::linear_system::SolverStats;
 use super::schur::Condensing;
 use super::{make_condensing, norm2, Backend, Failure, SolverOptions};
 use crate::error::SolveError;
-use faer::Mat;
+use faer::{Mat, MatRef};
 use std::time::Instant;
 
 /// The linear part as last condensed.
@@ -29,20 +29,27 @@ struct LinearPart {
     key: u64,
     kept: Vec<usize>,
     matrix: CscMatrix,
+    /// S, m × m by rows.
     schur: Vec<f64>,
 }
 
+impl LinearPart {
+    /// S as a matrix.
+    fn schur(&self) -> MatRef<'_, f64> {
+        let m = self.kept.len();
+        MatRef::from_row_major_slice(&self.schur, m, m)
+    }
+}
+
 /// The dense LU of S + C_KK for one change part (updated, not refactorised, when few columns
-/// changed: [`UpdatedLu`]).
+/// changed: [`UpdatedLu`], which also holds C_KK, the changing part it was made with: a key may
+/// stand for more than one set of values (an iteration matrix kept while the rows' coefficients
+/// move), and every solution is checked against the matrix it was solved with).
 struct DensePart {
     key: u64,
     lu: UpdatedLu,
     /// The factorisations, updates and iterations of `lu` already added to the run's counts.
     counted: [usize; 3],
-    /// The changing part the factorisation was made with: a key may stand for more than one set
-    /// of values (an iteration matrix kept while the rows' coefficients move), and every solution
-    /// is checked against the matrix it was solved with.
-    change: Triplets,
 }
 
 pub struct CondensedSystem {
@@ -132,8 +139,7 @@ impl CondensedSystem {
         let m = kept.len();
         if self.dense.as_ref().is_none_or(|d| d.key != change_key) {
             let t = Instant::now();
-            let schur = &self.linear.as_ref().expect("set above").schur;
-            let mut a = Mat::from_fn(m, m, |i, j| schur[i * m + j]);
+            let mut entries = Vec::with_capacity(change.values.len());
             for ((&i, &j), &v) in change.rows.iter().zip(&change.cols).zip(&change.values) {
                 let (Some(i), Some(j)) = (self.position[i as usize], self.position[j as usize]) else {
                     return Err(Failure::Other(SolveError::Backend {
@@ -141,17 +147,18 @@ impl CondensedSystem {
                         message: format!("an entry ({i}, {j}) of the changing part lies outside the kept unknowns"),
                     }));
                 };
-                a[(i, j)] += v;
+                entries.push((i, j, v));
             }
+            let change = SparseColumns::from_entries(m, entries.into_iter());
+            let schur = self.linear.as_ref().expect("set above").schur();
             match self.dense.as_mut() {
                 Some(dense) => {
-                    dense.lu.set(a);
+                    dense.lu.set(schur, change);
                     dense.key = change_key;
-                    dense.change = change.clone();
                 }
                 None => {
-                    let lu = UpdatedLu::new(a);
-                    self.dense = Some(DensePart { key: change_key, lu, counted: [0; 3], change: change.clone() });
+                    let lu = UpdatedLu::new(schur, change);
+                    self.dense = Some(DensePart { key: change_key, lu, counted: [0; 3] });
                 }
             }
             self.tally(stats);
@@ -230,11 +237,15 @@ impl CondensedSystem {
         let none = || Triplets::default();
         self.prepare(stats, n, &kept, linear_key, &none, change_key, change)?;
         let t = Instant::now();
+        let schur = self.linear.as_ref().expect("checked above").schur();
         let dense = self.dense.as_mut().expect("prepared");
         let m = rhs_kept.len();
         let b = Mat::from_fn(m, 1, |i, _| rhs_kept[i]);
-        let (y, checked) = dense.lu.solve(&b);
-        let rn = checked.unwrap_or_else(|| (&b - dense.lu.matrix() * &y).norm_l2());
+        let (y, checked) = dense.lu.solve(schur, &b);
+        let rn = checked.unwrap_or_else(|| {
+            let matrix = KeptMatrix { fixed: schur, change: dense.lu.change() };
+            (&b - matrix.times(y.as_ref())).norm_l2()
+        });
         self.tally(stats);
         let x: Vec<f64> = (0..m).map(|i| y[(i, 0)]).collect();
         let bn = b.norm_l2();
@@ -267,8 +278,8 @@ impl CondensedSystem {
     /// by v and the interior follows in balance.
     pub fn schur_times(&self, v: &[f64]) -> Vec<f64> {
         let Some(linear) = self.linear.as_ref() else { return vec![0.0; v.len()] };
-        let m = v.len();
-        (0..m).map(|i| linear.schur[i * m..(i + 1) * m].iter().zip(v).map(|(a, b)| a * b).sum()).collect()
+        let product = linear.schur() * MatRef::from_column_major_slice(v, v.len(), 1);
+        (0..v.len()).map(|i| product[(i, 0)]).collect()
     }
 
     /// The whole correction when the kept unknowns moved by `moved` with the interior following in
@@ -296,7 +307,8 @@ impl CondensedSystem {
         let t = Instant::now();
         let m = reduced.len();
         let b = Mat::from_fn(m, 1, |i, _| reduced[i]);
-        let (y, _) = self.dense.as_mut().expect("factorised before").lu.solve(&b);
+        let schur = self.linear.as_ref().expect("condensed before").schur();
+        let (y, _) = self.dense.as_mut().expect("factorised before").lu.solve(schur, &b);
         self.tally(stats);
         let kept_solution: Vec<f64> = (0..m).map(|i| y[(i, 0)]).collect();
         stats.dense_seconds += t.elapsed().as_secs_f64();
@@ -321,10 +333,14 @@ impl CondensedSystem {
     /// b − (L + C) x.
     fn residual(&self, x: &[f64], rhs: &[f64]) -> Vec<f64> {
         let linear = self.linear.as_ref().expect("set before a solve");
-        let change = &self.dense.as_ref().expect("factorised before a solve").change;
+        let change = self.dense.as_ref().expect("factorised before a solve").lu.change();
         let mut ax = linear.matrix.mul_vec(x);
-        for ((&i, &j), &v) in change.rows.iter().zip(&change.cols).zip(&change.values) {
-            ax[i as usize] += v * x[j as usize];
+        let m = linear.kept.len();
+        let x_kept = Mat::from_fn(m, 1, |k, _| x[linear.kept[k]]);
+        // C·x on the kept unknowns (L is in the product above)
+        let cx = change.times(x_kept.as_ref());
+        for (k, &e) in linear.kept.iter().enumerate() {
+            ax[e] += cx[(k, 0)];
         }
         rhs.iter().zip(&ax).map(|(b, a)| b - a).collect()
     }
