@@ -115,6 +115,25 @@ fn the_interface_iteration_needs_few_sparse_solves() {
 }
 
 #[test]
+fn a_pulled_increment_costs_one_sparse_solve() {
+    // the interior is in balance when a pull increment starts (the last increment's end left it so)
+    // and the pull moves the head, a kept unknown, alone: the iterations start on the interface and
+    // the one sparse solve is the interior following at the end; an increment that loads the soil
+    // (the surcharge) solves its first iteration condensed, and has a second solve
+    let model = frictional_pullout(Scheme::ConstantStiffness);
+    let backend = Backend::available()[0];
+    let (c, condensed) = run(&model, backend, true);
+    let first_stage = c.steps.iter().filter(|(r, _)| r.stage_index == 0).count();
+    let pulled = c.steps.len() - first_stage;
+    assert_eq!(pulled, 8, "the pull's increments");
+    assert!(
+        condensed.solves <= 2 * first_stage + pulled,
+        "{} sparse solves for {first_stage} loading and {pulled} pulled increments",
+        condensed.solves
+    );
+}
+
+#[test]
 fn the_sliding_grid_carries_the_coulomb_force() {
     let model = frictional_pullout(Scheme::Newton);
     let (c, _) = run(&model, Backend::available()[0], true);

@@ -8,6 +8,11 @@
 //! LU of that small system (when its matrix changed) and one condensation and expansion, whatever
 //! the scheme's tangent. The answer is the direct solve's, to its residual check.
 //!
+//! Within an increment the iterations go on on the kept unknowns alone ([`Deferred`]), the interior
+//! following once at the end; an increment whose load moves the kept unknowns alone (a pulled head)
+//! starts there too ([`start_in_balance`]), so that it costs one sparse solve, the interior's
+//! following.
+//!
 //! It falls back to the full system, automatically, where it does not apply: a soil element
 //! yielding (its tangent changes the soil part), a backend with no condensed path (the dense
 //! reference, which stays the independent check), an interior the soil alone cannot hold (the
@@ -214,6 +219,41 @@ impl Deferred {
         }
         Ok(())
     }
+}
+
+/// An interface iteration from the start of an increment, where the soil is elastic and condensed
+/// as it is now, onto the unknowns the interface touches now, and the right-hand side `rhs` is no
+/// more than round-off (`floor`) off the kept unknowns: the interior is in balance as the last
+/// increment's end left it (its interior followed the interface), and the increment's load moved
+/// the kept unknowns alone (a pulled reinforcement's head). `element_force`: the elements' part of
+/// the internal force at the current displacements.
+#[allow(clippy::too_many_arguments)]
+pub fn start_in_balance(
+    condensed: &CondensedSystem,
+    elements: &ElementMatrices,
+    dofs: &DofMap,
+    state: &State,
+    system: SystemInputs,
+    rhs: &[f64],
+    element_force: &[f64],
+    floor: f64,
+) -> Option<Deferred> {
+    if system.soil.trial.tangents.iter().any(Option::is_some) {
+        return None;
+    }
+    let (kept, soil_key) = condensed.condensed_on()?;
+    if soil_key != system.soil_fingerprint() || kept != kept_equations(elements, dofs, state).as_slice() {
+        return None;
+    }
+    let mut is_kept = vec![false; rhs.len()];
+    for &e in kept {
+        is_kept[e] = true;
+    }
+    let interior: f64 = rhs.iter().zip(&is_kept).filter(|(_, &k)| !k).map(|(r, _)| r * r).sum::<f64>().sqrt();
+    if !(interior <= floor) {
+        return None;
+    }
+    Deferred::start(condensed, elements, dofs, state, element_force, floor)
 }
 
 /// An iteration of the interface alone: the kept rows of `rhs` solved with S + C_KK. Returns the

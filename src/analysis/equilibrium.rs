@@ -316,6 +316,14 @@ fn solve(
     linear: &Linearisation,
 ) -> Result<Option<Solution>, IncrementError> {
     if cx.condensed.is_some() {
+        if it.iteration == 1 {
+            start_on_interface(cx, dofs, state, it, linear);
+            if it.deferred.is_some() {
+                if let Some(solution) = solve_interface(cx, dofs, state, it, linear)? {
+                    return Ok(Some(solution));
+                }
+            }
+        }
         if let Some(solution) = solve_condensed(cx, dofs, state, it, linear)? {
             return Ok(Some(solution));
         }
@@ -390,6 +398,26 @@ fn solve(
         }
         Err(Failure::Other(e)) => Err(IncrementError::Solve(e)),
     }
+}
+
+/// The first iteration of an increment whose load moved the kept unknowns alone: the iterations
+/// start on the interface at once (`condensation::start_in_balance`), and the increment's one
+/// sparse solve is the interior following at its end. Otherwise the elements' force computed here
+/// serves the condensed solve.
+fn start_on_interface(cx: &mut Context, dofs: &DofMap, state: &State, it: &mut Iterations, linear: &Linearisation) {
+    let Some(condensed) = cx.condensed.as_ref() else { return };
+    let t = Instant::now();
+    let stiffness = &it.kept_stiffness.as_ref().expect("set by linearise").1;
+    let system = linear.inputs(&cx.elements, stiffness, dofs, state);
+    let element = soil_and_bar_force(&cx.elements, system.soil, &state.bars, &state.u);
+    let rhs = iteration_system(system, &linear.springs, state, false, Some(element.clone())).rhs;
+    let floor = round_off_floor(&cx.elements, system.soil, &state.u);
+    cx.system.stats.assembly_seconds += t.elapsed().as_secs_f64();
+    if rhs.iter().all(|v| v.is_finite()) {
+        it.deferred =
+            condensation::start_in_balance(condensed, &cx.elements, dofs, state, system, &rhs, &element, floor);
+    }
+    it.carried_element_force = Some(element);
 }
 
 /// The inputs of an iteration's matrix and its right-hand side alone (no matrix assembled), for
