@@ -11,25 +11,24 @@
 //! under the consistent Newton tangent the springs' shear is coupled to their normal multipliers.
 
 use super::condensation::{self, Condensed, Deferred};
-use super::context::{element_matrices, Context};
+use super::context::Context;
 use super::convergence::{balance, displacement_ok, gaps_closed, out_of_balance, IncrementError, Measures};
+use super::correction::{apply_correction, line_search};
+use super::iteration_system::{inputs, iteration_system, IterationSystem};
 use super::non_finite::{self, Iterate};
 use super::singular::{self, Fallbacks, Recovered, SingularMatrix};
 use super::soil;
 use super::springs::{self, SpringResult};
 use super::state::State;
-use crate::assembly::{
-    add_spring_forces, round_off_floor, soil_and_bar_force, ElementMatrices, SoilView, SystemInputs,
-};
-use crate::dofs::{dof, DofMap};
+use crate::assembly::{round_off_floor, soil_and_bar_force, ElementMatrices, SoilView, SystemInputs};
+use crate::dofs::DofMap;
 use crate::element::soil_state::{SoilTrial, Tangent};
-use crate::interface::active_set::{describe, ActiveSet, Bands, Flips};
+use crate::interface::active_set::{describe, Bands, Flips};
 use crate::interface::reassociate::clip_tributaries;
-use crate::interface::rows::{constraint_force, multiplier_is_active, InterfaceRows};
+use crate::interface::rows::InterfaceRows;
 use crate::interface::NormalState;
-use crate::linsol::csc::Triplets;
 use crate::linsol::Failure;
-use crate::model::{Model, ReassociationRule, Scheme};
+use crate::model::{ReassociationRule, Scheme};
 use std::time::Instant;
 
 /// A converged increment.
@@ -281,31 +280,6 @@ fn linearise(
     Linearisation { rows, springs, tangent, soil_trial, coupling, dilation, key }
 }
 
-/// The inputs of an iteration's matrix.
-fn inputs<'a>(
-    elements: &'a ElementMatrices,
-    soil_trial: &'a SoilTrial,
-    rows: &'a InterfaceRows,
-    spring_stiffness: &'a [f64],
-    spring_coupling: Option<&'a [f64]>,
-    spring_dilation: Option<&'a [[f64; 2]]>,
-    dofs: &'a DofMap,
-    state: &'a State,
-) -> SystemInputs<'a> {
-    SystemInputs {
-        elements,
-        soil: SoilView { field: &state.soil, trial: soil_trial },
-        rows,
-        spring_stiffness,
-        spring_coupling,
-        spring_dilation,
-        bars: &state.bars,
-        interfaces: &state.interfaces,
-        dofs,
-        scale: elements.typical_stiffness(),
-    }
-}
-
 /// Assemble (unless the last matrix is still the one) and solve; `None` when a singular matrix was recovered from and the
 /// iteration is to be done again.
 fn solve(
@@ -551,32 +525,6 @@ fn finish_interface(
     })
 }
 
-/// Add `step` times the correction to the displacements and the multipliers; returns the squared
-/// norm of the displacement correction.
-fn apply_correction(dofs: &DofMap, state: &mut State, x: &[f64], step: f64, scale: f64) -> f64 {
-    let mut correction2 = 0.0f64;
-    for (d, eq) in dofs.equation.iter().enumerate() {
-        if let Some(e) = eq {
-            state.u[d] += step * x[*e];
-            correction2 += (step * x[*e]).powi(2);
-        }
-    }
-    for k in 0..dofs.multipliers.len() {
-        state.lambda[k] = corrected_multiplier(dofs, state, x, k, step, scale);
-    }
-    correction2
-}
-
-/// Multiplier k after `step` times the correction: a released row's is zero, as its equation says
-/// (exactly, whatever round-off an iterative solve left in its Δλ = −λ = 0).
-fn corrected_multiplier(dofs: &DofMap, state: &State, x: &[f64], k: usize, step: f64, scale: f64) -> f64 {
-    if multiplier_is_active(&state.interfaces, dofs.multipliers[k]) {
-        state.lambda[k] + step * scale * x[dofs.multiplier_equation(k)]
-    } else {
-        0.0
-    }
-}
-
 /// After a correction: the active set and the bars' rupture, then the convergence test. Returns
 /// the report when the increment has converged.
 fn check(
@@ -705,150 +653,4 @@ fn check(
     it.carried_soil = Some(soil_trial);
     it.carried_element_force = Some(element_force);
     Ok(None)
-}
-
-/// A backtracking line search on the Newton correction of yielding soil: the step is halved (at
-/// most five times) while the out-of-balance force on the free DOFs would grow. Perfectly plastic
-/// Gauss points make the consistent tangent nearly singular where a mechanism is forming, and a
-/// full step can then overshoot far (Crisfield, Non-linear Finite Element Analysis of Solids and
-/// Structures, vol. 1 (1991) §9.3).
-fn line_search(
-    cx: &Context,
-    dofs: &DofMap,
-    state: &State,
-    rows: &InterfaceRows,
-    x: &[f64],
-    scale: f64,
-    before: &[f64],
-) -> f64 {
-    let r0: f64 = before.iter().map(|v| v * v).sum::<f64>().sqrt();
-    let mut trial = state.clone();
-    let mut step = 1.0;
-    for _ in 0..6 {
-        for (d, eq) in dofs.equation.iter().enumerate() {
-            if let Some(e) = eq {
-                trial.u[d] = state.u[d] + step * x[*e];
-            }
-        }
-        for k in 0..dofs.multipliers.len() {
-            trial.lambda[k] = corrected_multiplier(dofs, state, x, k, step, scale);
-        }
-        let springs = springs::evaluate(cx.model, &trial, rows);
-        let taus: Vec<f64> = springs.iter().map(|r| r.tau).collect();
-        let soil_trial = soil::evaluate(&cx.setup, &trial.soil, &trial.u, &trial.u_committed, Tangent::Elastic);
-        let (r, _, _) = out_of_balance(&cx.elements, &soil_trial, rows, &taus, &trial, dofs);
-        if r <= r0 || step < 0.05 {
-            break;
-        }
-        step *= 0.5;
-    }
-    step
-}
-
-/// The linear system of one equilibrium iteration.
-pub struct IterationSystem {
-    pub triplets: Triplets,
-    pub rhs: Vec<f64>,
-    /// Scale of the constraint rows (the multiplier unknowns are Δλ/scale).
-    pub scale: f64,
-    /// Rows that hold a constraint (zero diagonal).
-    pub active: usize,
-}
-
-/// The system of one iteration from the current state: out-of-balance forces on the free DOFs, −g
-/// on active rows (no transverse motion on held rows), −λ on the rest; the matrix when asked for.
-/// `element`: the elements' part of the internal force at this state, when the convergence check
-/// already computed it.
-fn iteration_system(
-    inputs: SystemInputs,
-    springs: &[SpringResult],
-    state: &State,
-    with_matrix: bool,
-    element: Option<Vec<f64>>,
-) -> IterationSystem {
-    let SystemInputs { elements, soil, rows, dofs, scale, .. } = inputs;
-    let n_dof = state.u.len();
-    let gaps = rows.gaps(&state.u);
-    let taus: Vec<f64> = springs.iter().map(|r| r.tau).collect();
-    let mut f_int = element.unwrap_or_else(|| soil_and_bar_force(elements, soil, &state.bars, &state.u));
-    add_spring_forces(&mut f_int, rows, &taus);
-    let f_c = constraint_force(rows, &state.lambda, n_dof);
-    let mut rhs = vec![0.0; dofs.size()];
-    for (d, eq) in dofs.equation.iter().enumerate() {
-        if let Some(e) = eq {
-            rhs[*e] = state.f_ext[d] - f_int[d] - f_c[d];
-        }
-    }
-    let mut active = 0;
-    for k in 0..dofs.multipliers.len() {
-        let m = dofs.multipliers[k];
-        let held = !m.tangential
-            && matches!(
-                state.interfaces[m.interface].faces[m.face].points[m.point].normal_state,
-                NormalState::Held { .. }
-            );
-        rhs[dofs.multiplier_equation(k)] = if held {
-            active += 1;
-            0.0
-        } else if multiplier_is_active(&state.interfaces, m) {
-            active += 1;
-            -scale * gaps[k]
-        } else {
-            -state.lambda[k]
-        };
-    }
-    let triplets = if with_matrix { inputs.assemble() } else { Triplets::default() };
-    IterationSystem { triplets, rhs, scale, active }
-}
-
-/// The first system a run of `model` solves (stage 1, step 1, iteration 1): for benchmarks and
-/// solver studies.
-pub fn first_system(model: &Model) -> (usize, IterationSystem) {
-    let setup = soil::SoilSetup::new(model);
-    let elements = element_matrices(model, &setup);
-    let dof_count = 2 * model.mesh.nodes.len();
-    let mut held = vec![false; dof_count];
-    let stage = &model.stages[0];
-    let prescribed = stage.prescribed.iter().map(|&(n, d, _)| (n, d));
-    for (n, d) in model.supports.iter().copied().chain(prescribed) {
-        held[dof(n, d)] = true;
-    }
-    let mut interfaces = model.interfaces.clone();
-    let dofs = DofMap::new(model.mesh.nodes.len(), &held, &interfaces);
-    let rules = ActiveSet {
-        mesh: &model.mesh,
-        multipliers: &dofs.multipliers,
-        equation: &dofs.equation,
-        bar_only: &[],
-        placed: &[],
-    };
-    rules.mark_redundant(&mut interfaces);
-    let factor = stage.load_factors[0];
-    let mut u = vec![0.0; dof_count];
-    for &(n, d, value) in &stage.prescribed {
-        u[dof(n, d)] = factor * value;
-    }
-    let f_ext = super::loads::external_force(model, &stage.loads).into_iter().map(|f| factor * f).collect();
-    let state = State {
-        u,
-        lambda: vec![0.0; dofs.multipliers.len()],
-        interfaces,
-        f_ext,
-        u_committed: vec![0.0; dof_count],
-        frozen_sigma_n: None,
-        soil_sigma_from: None,
-        bars: crate::element::bar::BarStates::new(model.mesh.bars.len()),
-        soil: soil::initial_field(model),
-        placed: Vec::new(),
-    };
-    let rows = InterfaceRows::new(&model.mesh, &state.interfaces, &dofs.multipliers);
-    let springs = springs::evaluate(model, &state, &rows);
-    let soil_trial = SoilTrial::default();
-    let stiffness: Vec<f64> = rows
-        .springs
-        .iter()
-        .map(|s| state.interfaces[s.interface].faces[s.face].law.shear_stiffness().unwrap_or(0.0) * s.tributary)
-        .collect();
-    let system = inputs(&elements, &soil_trial, &rows, &stiffness, None, None, &dofs, &state);
-    (dofs.size(), iteration_system(system, &springs, &state, true, None))
 }

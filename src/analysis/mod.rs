@@ -37,7 +37,9 @@ pub mod checkpoint;
 mod condensation;
 mod context;
 mod convergence;
+mod correction;
 mod equilibrium;
+mod iteration_system;
 mod loads;
 mod non_finite;
 mod options;
@@ -54,7 +56,7 @@ mod strength_reduction;
 
 pub use checkpoint::{Checkpoint, ResumeRefusal};
 pub use context::model_memory_estimate_mb;
-pub use equilibrium::{first_system, IterationSystem};
+pub use iteration_system::{first_system, IterationSystem};
 pub use loads::external_force;
 pub use options::RunOptions;
 pub use sink::{Collect, FactorOfSafety, StepRecord, StepSink};
