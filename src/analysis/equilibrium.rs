@@ -385,12 +385,12 @@ fn start_on_interface(cx: &mut Context, dofs: &DofMap, state: &State, it: &mut I
     let system = linear.inputs(&cx.elements, stiffness, dofs, state);
     let element = soil_and_bar_force(&cx.elements, system.soil, &state.bars, &state.u);
     let rhs = iteration_system(system, &linear.springs, state, false, Some(element.clone())).rhs;
-    let floor = round_off_floor(&cx.elements, system.soil, &state.u);
-    cx.system.stats.assembly_seconds += t.elapsed().as_secs_f64();
+    let floor = || round_off_floor(&cx.elements, system.soil, &state.u);
     if rhs.iter().all(|v| v.is_finite()) {
         it.deferred =
-            condensation::start_in_balance(condensed, &cx.elements, dofs, state, system, &rhs, &element, floor);
+            condensation::start_in_balance(condensed, &cx.elements, dofs, state, system, &rhs, &element, &floor);
     }
+    cx.system.stats.assembly_seconds += t.elapsed().as_secs_f64();
     it.carried_element_force = Some(element);
 }
 
