@@ -144,6 +144,9 @@ pub struct Deferred {
     soil_force: Vec<f64>,
     /// The corrections of each kept unknown since.
     moved: Vec<f64>,
+    /// S·moved: the change of the soil's force on the kept unknowns since (summed solve by solve,
+    /// from the products each solve's residual check makes).
+    soil_moved: Vec<f64>,
     /// The round-off floor of the residual then.
     pub floor: f64,
 }
@@ -173,18 +176,19 @@ impl Deferred {
             kept_dof: kept.iter().map(|&e| dof_of[e]).collect(),
             soil_force: element_force.iter().zip(&bars).map(|(f, b)| f - b).collect(),
             moved: vec![0.0; kept.len()],
+            soil_moved: vec![0.0; kept.len()],
             floor,
         })
     }
 
     /// The elements' part of the internal force now: the soil's force at the start plus S·moved on
     /// the kept DOFs (elsewhere as at the start), and the bars' at the current displacements.
-    pub fn element_force(&self, condensed: &CondensedSystem, elements: &ElementMatrices, state: &State) -> Vec<f64> {
+    pub fn element_force(&self, elements: &ElementMatrices, state: &State) -> Vec<f64> {
         let mut f = bar_force(elements, &state.bars, &state.u);
         for (fi, s) in f.iter_mut().zip(&self.soil_force) {
             *fi += s;
         }
-        for (k, change) in condensed.schur_times(&self.moved).into_iter().enumerate() {
+        for (k, &change) in self.soil_moved.iter().enumerate() {
             if let Some(d) = self.kept_dof[k] {
                 f[d] += change;
             }
@@ -275,11 +279,14 @@ pub fn solve_deferred(
     let change = system.assemble_reinforcement_and_interface();
     stats.assembly_seconds += t.elapsed().as_secs_f64();
     let rhs_kept: Vec<f64> = deferred.kept.iter().map(|&e| rhs[e]).collect();
-    let (x_kept, residual) = condensed.solve_kept(stats, deferred.soil_key, key, &change, &rhs_kept).ok()?;
+    let solved = condensed.solve_kept(stats, deferred.soil_key, key, &change, &rhs_kept).ok()?;
     let mut x = vec![0.0; rhs.len()];
-    for ((&e, &v), moved) in deferred.kept.iter().zip(&x_kept).zip(deferred.moved.iter_mut()) {
+    for ((&e, &v), moved) in deferred.kept.iter().zip(&solved.x).zip(deferred.moved.iter_mut()) {
         x[e] = v;
         *moved += v;
     }
-    Some((x, residual))
+    for (soil, change) in deferred.soil_moved.iter_mut().zip(&solved.soil_force) {
+        *soil += change;
+    }
+    Some((x, solved.residual))
 }

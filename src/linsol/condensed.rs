@@ -16,7 +16,7 @@
 //! does) so a condensed solve is never less accurate than a direct one.
 
 use super::csc::{CscMatrix, PatternCache, Triplets};
-use super::dense_update::{KeptMatrix, SparseColumns, UpdatedLu};
+use super::dense_update::{SparseColumns, UpdatedLu};
 use super::linear_system::SolverStats;
 use super::schur::Condensing;
 use super::{make_condensing, norm2, Backend, Failure, SolverOptions};
@@ -50,6 +50,17 @@ struct DensePart {
     lu: UpdatedLu,
     /// The factorisations, updates and iterations of `lu` already added to the run's counts.
     counted: [usize; 3],
+}
+
+/// A solve of the kept system alone ([`CondensedSystem::solve_kept`]).
+pub struct KeptSolution {
+    /// x_K.
+    pub x: Vec<f64>,
+    /// ‖(S + C_KK)·x_K − r_K‖ / ‖r_K‖.
+    pub residual: f64,
+    /// S·x_K: the change of the soil's force on the kept unknowns when they move by x_K and the
+    /// interior follows in balance.
+    pub soil_force: Vec<f64>,
 }
 
 pub struct CondensedSystem {
@@ -216,7 +227,8 @@ impl CondensedSystem {
 
     /// Solve (S + C_KK) x_K = r_K on the kept unknowns alone: an iteration whose interior is
     /// already in balance, with L condensed for `linear_key` and the same `kept` as the last
-    /// [`CondensedSystem::solve`]. Returns x_K and its relative residual on the kept system.
+    /// [`CondensedSystem::solve`]. Returns x_K, its relative residual on the kept system, and S·x_K
+    /// (the change of the soil's force on the kept unknowns; the residual's check computes it).
     ///
     /// # Errors
     /// [`Failure::Singular`] when the kept system's residual exceeds 1e-6, or when L is not the one
@@ -228,7 +240,7 @@ impl CondensedSystem {
         change_key: u64,
         change: &Triplets,
         rhs_kept: &[f64],
-    ) -> Result<(Vec<f64>, f64), Failure> {
+    ) -> Result<KeptSolution, Failure> {
         let Some(linear) = self.linear.as_ref() else { return Err(Failure::Singular { equations: Vec::new() }) };
         if linear.key != linear_key {
             return Err(Failure::Singular { equations: Vec::new() });
@@ -241,11 +253,11 @@ impl CondensedSystem {
         let dense = self.dense.as_mut().expect("prepared");
         let m = rhs_kept.len();
         let b = Mat::from_fn(m, 1, |i, _| rhs_kept[i]);
-        let (y, checked) = dense.lu.solve(schur, &b);
-        let rn = checked.unwrap_or_else(|| {
-            let matrix = KeptMatrix { fixed: schur, change: dense.lu.change() };
-            (&b - matrix.times(y.as_ref())).norm_l2()
-        });
+        let y = dense.lu.solve(schur, &b);
+        // the true residual b − S·y − C·y, whatever the solve reported: S·y is wanted anyway
+        let soil = schur * &y;
+        let r = &b - &soil - dense.lu.change().times(y.as_ref());
+        let rn = r.norm_l2();
         self.tally(stats);
         let x: Vec<f64> = (0..m).map(|i| y[(i, 0)]).collect();
         let bn = b.norm_l2();
@@ -255,7 +267,7 @@ impl CondensedSystem {
             return Err(Failure::Singular { equations: Vec::new() });
         }
         stats.max_relative_residual = stats.max_relative_residual.max(residual);
-        Ok((x, residual))
+        Ok(KeptSolution { x, residual, soil_force: (0..m).map(|i| soil[(i, 0)]).collect() })
     }
 
     /// The diagonal of the linear part L last condensed (every equation).
@@ -272,14 +284,6 @@ impl CondensedSystem {
             }
         }
         Some(diagonal)
-    }
-
-    /// S·v on the kept unknowns: the change of the soil's force there when the kept unknowns move
-    /// by v and the interior follows in balance.
-    pub fn schur_times(&self, v: &[f64]) -> Vec<f64> {
-        let Some(linear) = self.linear.as_ref() else { return vec![0.0; v.len()] };
-        let product = linear.schur() * MatRef::from_column_major_slice(v, v.len(), 1);
-        (0..v.len()).map(|i| product[(i, 0)]).collect()
     }
 
     /// The whole correction when the kept unknowns moved by `moved` with the interior following in
@@ -308,7 +312,7 @@ impl CondensedSystem {
         let m = reduced.len();
         let b = Mat::from_fn(m, 1, |i, _| reduced[i]);
         let schur = self.linear.as_ref().expect("condensed before").schur();
-        let (y, _) = self.dense.as_mut().expect("factorised before").lu.solve(schur, &b);
+        let y = self.dense.as_mut().expect("factorised before").lu.solve(schur, &b);
         self.tally(stats);
         let kept_solution: Vec<f64> = (0..m).map(|i| y[(i, 0)]).collect();
         stats.dense_seconds += t.elapsed().as_secs_f64();
