@@ -124,9 +124,10 @@ fn condenses(options: &RunOptions, setup: &SoilSetup) -> bool {
 
 /// Whether every matrix of the run is symmetric, so that the solver may factorise it as LDLᵀ (MUMPS
 /// SYM=2, on the lower triangle) rather than LU. The constant-stiffness and newton-symmetric schemes
-/// always are, unless a face dilates. Newton's consistent tangent is unsymmetric only where τ is coupled to σn (a law with
+/// always are, unless a face dilates. Newton's consistent tangent is unsymmetric where τ is coupled to σn (a law with
 /// friction, with σn not frozen: frozen in every stage that loads, from the first on, unless that
-/// stage is a strength-reduction search, which starts unfrozen) or where Mohr–Coulomb soil flows
+/// stage is a strength-reduction search, which starts unfrozen), under large slip (re-association
+/// on: a spring's force follows its tributary length) or where Mohr–Coulomb soil flows
 /// non-associatively (ψ ≠ φ, the return map's tangent).
 fn symmetric_tangent(model: &Model, options: &RunOptions) -> bool {
     // a dilating face's normal row takes the slip's direction, its column does not
@@ -146,7 +147,11 @@ fn symmetric_tangent(model: &Model, options: &RunOptions) -> bool {
     // (an embedded reinforcement's σn is the soil's, not coupled to a multiplier in the tangent)
     let coupled = !frozen
         && model.interfaces.iter().flat_map(|i| &i.faces).any(|f| f.law.is_frictional() && f.embedded.is_none());
-    !coupled && !model.has_non_associated_soil()
+    // under large slip a spring's force τ·ℓ follows its tributary length, which the slave line's
+    // stretch and embedment move: row ⊗ ∂(τ·ℓ)/∂u
+    let stretched = options.analysis.reassociation != crate::model::ReassociationRule::None
+        && model.interfaces.iter().any(|i| !i.is_tie());
+    !coupled && !stretched && !model.has_non_associated_soil()
 }
 
 /// Stop before allocating anything large when the model alone would not fit, in memory or in the

@@ -24,7 +24,7 @@ use crate::assembly::{round_off_floor, soil_and_bar_force, ElementMatrices, Soil
 use crate::dofs::DofMap;
 use crate::element::soil_state::{SoilTrial, Tangent};
 use crate::interface::active_set::{describe, Bands, Flips};
-use crate::interface::reassociate::clip_tributaries;
+use crate::interface::reassociate::{clip_tributaries, tributary_rates};
 use crate::interface::rows::InterfaceRows;
 use crate::interface::NormalState;
 use crate::linsol::Failure;
@@ -77,6 +77,8 @@ struct Linearisation {
     coupling: Option<Vec<f64>>,
     /// [∂d/∂s, ∂d/∂σn] of each spring's opening, when a face dilates.
     dilation: Option<Vec<[f64; 2]>>,
+    /// ∂(τ·ℓ)/∂u of each spring through its tributary length, under Newton with large slip.
+    stretch: Option<Vec<Vec<(usize, f64)>>>,
     key: u64,
 }
 
@@ -96,6 +98,7 @@ impl Linearisation {
             stiffness,
             self.coupling.as_deref(),
             self.dilation.as_deref(),
+            self.stretch.as_deref(),
             dofs,
             state,
         )
@@ -273,11 +276,45 @@ fn linearise(
                 })
                 .collect()
         });
-    let key =
-        inputs(&cx.elements, &soil_trial, &rows, stiffness, coupling.as_deref(), dilation.as_deref(), dofs, state)
-            .fingerprint();
+    // Under large slip each spring's force τ·ℓ follows its tributary length ℓ (the slave line's
+    // current length, the part of it still facing the master face): the consistent tangent has
+    // row ⊗ ∂(τ·ℓ)/∂u, with ∂(τ·ℓ)/∂ℓ = τ, or τ − (∂τ/∂σn)·σn where σn = λ/ℓ is the point's own.
+    // Unsymmetric: never on a solver that takes the matrix as symmetric (`context::symmetric_tangent`
+    // keeps Newton off it under large slip).
+    let stretch: Option<Vec<Vec<(usize, f64)>>> = (scheme == Scheme::Newton
+        && !it.fallbacks.elastic_springs
+        && cx.options.analysis.reassociation != ReassociationRule::None
+        && !cx.system.stats.symmetric)
+        .then(|| {
+            let rates = tributary_rates(&cx.model.mesh, &state.interfaces, &state.u);
+            rows.springs
+                .iter()
+                .zip(&springs)
+                .enumerate()
+                .map(|(k, (s, r))| {
+                    let face = &state.interfaces[s.interface].faces[s.face];
+                    let in_contact = face.points[s.point].in_contact();
+                    let own = coupling.as_ref().map_or(0.0, |c| c[k]);
+                    let per_length = if in_contact { r.tau - own * r.sigma_n } else { 0.0 };
+                    let sides = face.sides();
+                    rates[s.interface][s.face][s.point].iter().map(|&(d, g)| (d, per_length * sides * g)).collect()
+                })
+                .collect()
+        });
+    let key = inputs(
+        &cx.elements,
+        &soil_trial,
+        &rows,
+        stiffness,
+        coupling.as_deref(),
+        dilation.as_deref(),
+        stretch.as_deref(),
+        dofs,
+        state,
+    )
+    .fingerprint();
     cx.system.stats.interface_seconds += t.elapsed().as_secs_f64();
-    Linearisation { rows, springs, tangent, soil_trial, coupling, dilation, key }
+    Linearisation { rows, springs, tangent, soil_trial, coupling, dilation, stretch, key }
 }
 
 /// Assemble (unless the last matrix is still the one) and solve; `None` when a singular matrix was recovered from and the

@@ -15,6 +15,7 @@ use crate::linsol::csc::Triplets;
 use crate::model::Model;
 
 /// The inputs of an iteration's matrix.
+#[allow(clippy::too_many_arguments)]
 pub fn inputs<'a>(
     elements: &'a ElementMatrices,
     soil_trial: &'a SoilTrial,
@@ -22,6 +23,7 @@ pub fn inputs<'a>(
     spring_stiffness: &'a [f64],
     spring_coupling: Option<&'a [f64]>,
     spring_dilation: Option<&'a [[f64; 2]]>,
+    spring_stretch: Option<&'a [Vec<(usize, f64)>]>,
     dofs: &'a DofMap,
     state: &'a State,
 ) -> SystemInputs<'a> {
@@ -32,6 +34,7 @@ pub fn inputs<'a>(
         spring_stiffness,
         spring_coupling,
         spring_dilation,
+        spring_stretch,
         bars: &state.bars,
         interfaces: &state.interfaces,
         dofs,
@@ -143,6 +146,6 @@ pub fn first_system(model: &Model) -> (usize, IterationSystem) {
         .iter()
         .map(|s| state.interfaces[s.interface].faces[s.face].law.shear_stiffness().unwrap_or(0.0) * s.tributary)
         .collect();
-    let system = inputs(&elements, &soil_trial, &rows, &stiffness, None, None, &dofs, &state);
+    let system = inputs(&elements, &soil_trial, &rows, &stiffness, None, None, None, &dofs, &state);
     (dofs.size(), iteration_system(system, &springs, &state, true, None))
 }

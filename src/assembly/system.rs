@@ -159,6 +159,10 @@ pub struct SystemInputs<'a> {
     /// [∂d/∂s, ∂d/∂σn] of each spring's opening by dilatancy, when a face dilates: its normal row
     /// holds g + d = 0, linearised as (row_n + ∂d/∂s·row_t)·Δu + (∂d/∂σn)·Δλ/ℓ.
     pub spring_dilation: Option<&'a [[f64; 2]]>,
+    /// ∂(τ·ℓ)/∂u of each spring through its tributary length ℓ (as (DOF, value); the consistent
+    /// tangent under large slip, where ℓ follows the slave line's length and embedment), when the
+    /// scheme asks for it: the matrix gets row ⊗ it, unsymmetric.
+    pub spring_stretch: Option<&'a [Vec<(usize, f64)>]>,
     pub bars: &'a BarStates,
     pub interfaces: &'a [Interface],
     pub dofs: &'a DofMap,
@@ -243,13 +247,15 @@ impl SystemInputs<'_> {
 
     /// At least as many entries as `add_interface` pushes.
     fn interface_entries(&self) -> usize {
-        let SystemInputs { rows, spring_coupling, spring_dilation, .. } = *self;
+        let SystemInputs { rows, spring_coupling, spring_dilation, spring_stretch, .. } = *self;
         let springs: usize = rows.springs.iter().map(|s| s.row.len() * s.row.len()).sum();
         let row_entries: usize = rows.springs.iter().map(|s| s.row.len()).sum();
         let coupling = if spring_coupling.is_some() { row_entries } else { 0 };
         let dilation = if spring_dilation.is_some() { row_entries + rows.springs.len() } else { 0 };
+        let stretch: usize = spring_stretch
+            .map_or(0, |stretch| rows.springs.iter().zip(stretch).map(|(s, g)| s.row.len() * g.len()).sum());
         let constraints: usize = rows.constraint_rows.iter().map(|r| 2 * r.len() + 1).sum();
-        springs + coupling + dilation + constraints
+        springs + coupling + dilation + stretch + constraints
     }
 
     fn add_blocks(&self, t: &mut Triplets, which: Blocks) {
@@ -277,8 +283,17 @@ impl SystemInputs<'_> {
 
     /// The springs, their coupling to the multipliers and the constraint rows.
     fn add_interface(&self, t: &mut Triplets) {
-        let SystemInputs { rows, spring_stiffness, spring_coupling, spring_dilation, interfaces, dofs, scale, .. } =
-            *self;
+        let SystemInputs {
+            rows,
+            spring_stiffness,
+            spring_coupling,
+            spring_dilation,
+            spring_stretch,
+            interfaces,
+            dofs,
+            scale,
+            ..
+        } = *self;
         let eq = |d: usize| dofs.equation[d];
         for (spring, k) in rows.springs.iter().zip(spring_stiffness) {
             for &(da, ca) in &spring.row {
@@ -299,6 +314,20 @@ impl SystemInputs<'_> {
                 for &(d, cd) in &spring.row {
                     if let Some(i) = eq(d) {
                         t.push(i, m, scale * c * cd);
+                    }
+                }
+            }
+        }
+        // ∂(τ·ℓ·row)/∂u through ℓ: row ⊗ ∂(τ·ℓ)/∂u (always pushed under this scheme, zero where ℓ
+        // does not change, for a fixed pattern)
+        if let Some(stretch) = spring_stretch {
+            for (spring, rate) in rows.springs.iter().zip(stretch) {
+                for &(d, cd) in &spring.row {
+                    let Some(i) = eq(d) else { continue };
+                    for &(g, value) in rate {
+                        if let Some(j) = eq(g) {
+                            t.push(i, j, cd * value);
+                        }
                     }
                 }
             }
@@ -346,6 +375,7 @@ impl SystemInputs<'_> {
             spring_stiffness,
             spring_coupling,
             spring_dilation,
+            spring_stretch,
             bars,
             interfaces,
             dofs,
@@ -371,6 +401,9 @@ impl SystemInputs<'_> {
         }
         for k in spring_dilation.unwrap_or(&[]).iter().flatten() {
             k.to_bits().hash(&mut h);
+        }
+        for rate in spring_stretch.unwrap_or(&[]) {
+            entries(rate, &mut h);
         }
         bars.ruptured.hash(&mut h);
         bars.absent.hash(&mut h);

@@ -302,6 +302,195 @@ pub fn clip_tributaries(mesh: &Mesh, interfaces: &mut [Interface], u: &[f64]) {
     }
 }
 
+/// Each point's (DOF, ∂ℓ/∂u) on one face.
+pub type FaceRates = Vec<Vec<(usize, f64)>>;
+
+/// How each point's tributary length, as [`clip_tributaries`] sets it, changes with the
+/// displacements of the slave nodes: for each interface, face and point, (DOF, ∂ℓ/∂u) over the two
+/// DOFs of the point's slave node and of its neighbours' (always these DOFs, zero where nothing
+/// changes). ℓ follows the slave line's current length, the part of it that faces the master face
+/// and, in axisymmetry, the radius. The master path's own movement (a soil strain's share of the
+/// change) is left out. Empty for a tie, whose points have no spring.
+pub fn tributary_rates(mesh: &Mesh, interfaces: &[Interface], u: &[f64]) -> Vec<Vec<FaceRates>> {
+    interfaces
+        .iter()
+        .map(|interface| {
+            interface
+                .faces
+                .iter()
+                .map(|face| {
+                    if interface.is_tie() {
+                        vec![Vec::new(); face.points.len()]
+                    } else {
+                        face_tributary_rates(mesh, face, u)
+                    }
+                })
+                .collect()
+        })
+        .collect()
+}
+
+/// ∂arc/∂x of a point projected on `segment` of `path` at `raw` (unclamped ξ, or clamped by a kept
+/// segment): the segment's unit tangent where the arc moves with the point (on the segment, or
+/// beyond either end of the path), zero where it is held at a node.
+fn arc_rate(mesh: &Mesh, u: &[f64], path: &[NodeIndex], segment: usize, raw: f64) -> [f64; 2] {
+    let (a, b) = (current(mesh, u, path[segment]), current(mesh, u, path[segment + 1]));
+    let d = [b[0] - a[0], b[1] - a[1]];
+    let len = (d[0] * d[0] + d[1] * d[1]).sqrt();
+    let beyond = (segment == 0 && raw < 0.0) || (segment + 2 == path.len() && raw > 1.0);
+    if len > 0.0 && ((raw > 0.0 && raw < 1.0) || beyond) {
+        [d[0] / len, d[1] / len]
+    } else {
+        [0.0, 0.0]
+    }
+}
+
+/// [`tributary_rates`] of one face: the derivative of [`clip_face_tributaries`] by the slave nodes,
+/// and, where a segment of the slave line is clipped, by the master path's nodes, which place the
+/// ends of the part that faces the master face (the turning of a segment under a point off it, a
+/// gap's share, is left out).
+fn face_tributary_rates(mesh: &Mesh, face: &ContactFace, u: &[f64]) -> FaceRates {
+    let n_points = face.points.len();
+    let node_dofs = |n: NodeIndex| [2 * n, 2 * n + 1];
+    let slave_dofs = |k: usize| node_dofs(face.points[k].slave);
+    let mut rates: Vec<Vec<(usize, f64)>> = (0..n_points)
+        .map(|k| (k.saturating_sub(1)..(k + 2).min(n_points)).flat_map(slave_dofs).map(|d| (d, 0.0)).collect())
+        .collect();
+    if n_points < 2 || face.master.len() < 2 {
+        return rates;
+    }
+    let unit = |a: NodeIndex, b: NodeIndex| {
+        let (xa, xb) = (current(mesh, u, a), current(mesh, u, b));
+        let d = [xb[0] - xa[0], xb[1] - xa[1]];
+        let len = (d[0] * d[0] + d[1] * d[1]).sqrt();
+        if len > 0.0 {
+            [d[0] / len, d[1] / len]
+        } else {
+            [0.0, 0.0]
+        }
+    };
+    // each master segment's unit tangent: the path's length and every arc measured from its first
+    // node move with them
+    let tangents: Vec<[f64; 2]> = face.master.windows(2).map(|w| unit(w[0], w[1])).collect();
+    let total = path_length(mesh, u, &face.master);
+    // ∂total/∂x of master node i: t_{i−1} − t_i (t_{−1} = t_{last+1} = 0)
+    let total_rate = |i: usize, axis: usize| {
+        let before = if i > 0 { tangents[i - 1][axis] } else { 0.0 };
+        let after = tangents.get(i).map_or(0.0, |t| t[axis]);
+        before - after
+    };
+    // each point's arc, ∂arc/∂x of its slave node, and the segment and ξ it projects on
+    let projections: Vec<(f64, [f64; 2], usize, f64)> = face
+        .points
+        .iter()
+        .map(|p| {
+            let (segment, raw, arc) =
+                project_current(mesh, u, &face.master, current(mesh, u, p.slave), Some(p.segment));
+            (arc, arc_rate(mesh, u, &face.master, segment, raw), segment, raw)
+        })
+        .collect();
+    // ∂arc/∂x of master node i for a point on `segment` at `raw`: the arc to the segment's start
+    // (Σ of the lengths before it) and the projection on it, (x − x_a)·t_a
+    let arc_master_rate = |i: usize, axis: usize, segment: usize, raw: f64| {
+        // held at the path's first node: always 0
+        if segment == 0 && raw == 0.0 {
+            return 0.0;
+        }
+        let moving = arc_rate(mesh, u, &face.master, segment, raw) != [0.0, 0.0];
+        if i < segment {
+            total_rate(i, axis)
+        } else if i == segment {
+            // the arc to the segment's start grows with t_{a−1}; the projection falls with t_a
+            let before = if i > 0 { tangents[i - 1][axis] } else { 0.0 };
+            before - if moving || raw >= 1.0 { tangents[i][axis] } else { 0.0 }
+        } else if i == segment + 1 && !moving && raw >= 1.0 {
+            // held at the segment's end node: the arc to that node
+            tangents[segment][axis]
+        } else {
+            0.0
+        }
+    };
+    let geometry = mesh.geometry;
+    let mut add = |point: usize, dof: usize, value: f64| match rates[point].iter_mut().find(|(d, _)| *d == dof) {
+        Some(entry) => entry.1 += value,
+        None => rates[point].push((dof, value)),
+    };
+    for k in 0..n_points - 1 {
+        let (xa, xb) = (current(mesh, u, face.points[k].slave), current(mesh, u, face.points[k + 1].slave));
+        let d = [xb[0] - xa[0], xb[1] - xa[1]];
+        let length = (d[0] * d[0] + d[1] * d[1]).sqrt();
+        let along = if length > 0.0 { [d[0] / length, d[1] / length] } else { [0.0, 0.0] };
+        let ((sa, rate_a, seg_a, raw_a), (sb, rate_b, seg_b, raw_b)) = (projections[k], projections[k + 1]);
+        // (e0, e1) as clip_face_tributaries finds them, and their derivatives by (sa, sb, total)
+        let (e0, de0, e1, de1) = if (sb - sa).abs() < 1e-15 * total.max(1e-300) {
+            let inside = (0.0..=total).contains(&sa);
+            (0.0, [0.0; 3], if inside { 1.0 } else { 0.0 }, [0.0; 3])
+        } else {
+            let span = sb - sa;
+            let (ea, eb) = ((0.0 - sa) / span, (total - sa) / span);
+            let dea = [-sb / (span * span), sa / (span * span), 0.0];
+            let deb = [(total - sb) / (span * span), -(total - sa) / (span * span), 1.0 / span];
+            let ((lo, dlo), (hi, dhi)) = if ea <= eb { ((ea, dea), (eb, deb)) } else { ((eb, deb), (ea, dea)) };
+            let clamped =
+                |e: f64, de: [f64; 3]| if e > 0.0 && e < 1.0 { (e, de) } else { (e.clamp(0.0, 1.0), [0.0; 3]) };
+            let ((lo, dlo), (hi, dhi)) = (clamped(lo, dlo), clamped(hi, dhi));
+            (lo, dlo, hi, dhi)
+        };
+        let (ca, cb) = (geometry.circumference(xa), geometry.circumference(xb));
+        // the circumference is linear in the position: its change over a unit step
+        let rate_c = |x: [f64; 2]| {
+            let c = geometry.circumference(x);
+            [geometry.circumference([x[0] + 1.0, x[1]]) - c, geometry.circumference([x[0], x[1] + 1.0]) - c]
+        };
+        let (gca, gcb) = (rate_c(xa), rate_c(xb));
+        let w_far = ca * (e1 * e1 - e0 * e0) / 2.0 + (cb - ca) * (e1 * e1 * e1 - e0 * e0 * e0) / 3.0;
+        let w_near = ca * (e1 - e0) + (cb - ca) * (e1 * e1 - e0 * e0) / 2.0 - w_far;
+        // partial derivatives of w_far and w_near by e0, e1, ca, cb
+        let far = [
+            -ca * e0 - (cb - ca) * e0 * e0,
+            ca * e1 + (cb - ca) * e1 * e1,
+            (e1 * e1 - e0 * e0) / 2.0 - (e1 * e1 * e1 - e0 * e0 * e0) / 3.0,
+            (e1 * e1 * e1 - e0 * e0 * e0) / 3.0,
+        ];
+        let near = [
+            -ca - (cb - ca) * e0 - far[0],
+            ca + (cb - ca) * e1 - far[1],
+            (e1 - e0) - (e1 * e1 - e0 * e0) / 2.0 - far[2],
+            (e1 * e1 - e0 * e0) / 2.0 - far[3],
+        ];
+        // one coordinate's change: of the segment's length, of (sa, sb, total), of (ca, cb)
+        let mut each = |dof: usize, d_length: f64, d_s: [f64; 3], d_c: [f64; 2]| {
+            let d_e0: f64 = de0.iter().zip(&d_s).map(|(a, b)| a * b).sum();
+            let d_e1: f64 = de1.iter().zip(&d_s).map(|(a, b)| a * b).sum();
+            let change = [d_e0, d_e1, d_c[0], d_c[1]];
+            let d_far: f64 = far.iter().zip(&change).map(|(a, b)| a * b).sum();
+            let d_near: f64 = near.iter().zip(&change).map(|(a, b)| a * b).sum();
+            add(k, dof, d_near * length + w_near * d_length);
+            add(k + 1, dof, d_far * length + w_far * d_length);
+        };
+        for axis in 0..2 {
+            each(slave_dofs(k)[axis], -along[axis], [rate_a[axis], 0.0, 0.0], [gca[axis], 0.0]);
+            each(slave_dofs(k + 1)[axis], along[axis], [0.0, rate_b[axis], 0.0], [0.0, gcb[axis]]);
+        }
+        // a clipped segment's ends move with the master path's nodes
+        if de0 != [0.0; 3] || de1 != [0.0; 3] {
+            for (i, &node) in face.master.iter().enumerate() {
+                for axis in 0..2 {
+                    let d_s = [
+                        arc_master_rate(i, axis, seg_a, raw_a),
+                        arc_master_rate(i, axis, seg_b, raw_b),
+                        total_rate(i, axis),
+                    ];
+                    if d_s != [0.0; 3] {
+                        each(node_dofs(node)[axis], 0.0, d_s, [0.0; 2]);
+                    }
+                }
+            }
+        }
+    }
+    rates
+}
+
 fn clip_face_tributaries(mesh: &Mesh, face: &mut ContactFace, u: &[f64], arcs: &[f64], total: f64) {
     let n_points = face.points.len();
     let mut tributary = vec![0.0; n_points];

@@ -32,6 +32,26 @@ pub fn head_forces(model: &Model, c: &Collect, head: &str) -> Vec<f64> {
         .collect()
 }
 
+/// Assert that two runs of a pull-out give the same head force at every step, to `tolerance` of
+/// the first run's peak (which must show a pull), and that the second run's points slid past soil
+/// nodes (large slip). Returns the first run's head forces.
+pub fn assert_same_head_forces(
+    (model_a, a): (&Model, &Collect),
+    (model_b, b): (&Model, &Collect),
+    tolerance: f64,
+) -> Vec<f64> {
+    let (x, y) = (head_forces(model_a, a, "grid.head"), head_forces(model_b, b, "grid.head"));
+    assert_eq!(x.len(), y.len());
+    let peak = x.iter().cloned().fold(0.0, f64::max);
+    assert!(peak > 1.0, "the grid is pulled: peak {peak} kN/m");
+    for (step, (p, q)) in x.iter().zip(&y).enumerate() {
+        assert!((p - q).abs() <= tolerance * peak, "step {}: head force {q} against {p}", step + 1);
+    }
+    let reassociated: usize = b.steps.iter().map(|(r, _)| r.reassociations.len()).sum();
+    assert!(reassociated > 0, "the points slide past soil nodes (large slip)");
+    x
+}
+
 /// The pull-out box of issue #16: a 2 m × 1 m weightless elastic block (E = 10 MPa, ν = 0.3) of
 /// 20 × 10 quad4 (h = 0.1 m), a grid at mid-height from x = 0 to 1.6 m on the soil's nodes (EA = 500
 /// kN/m), Coulomb faces (Ks = 2000 kPa/m, c = 0, φ = 30°), q = 20 kPa; the head pulled 20 mm in 40
