@@ -39,9 +39,10 @@ pub const ITERATIVE_TOLERANCE: f64 = 1e-13;
 pub const MAX_ITERATIONS: usize = 6;
 /// BiCGSTAB iterations that cost about one factorisation: each iteration is two solves with M₀'s
 /// factors and two products with the matrix (four memory-bound passes over an m × m array), a
-/// factorisation 2m³/3 flops (0.3–0.4 s at m = 2280 on the project's 2-core machine); chosen on the
-/// 10⁵-unknown pull-out benchmark (docs/performance.md).
-pub const ITERATIONS_PER_FACTORISATION: usize = 10;
+/// factorisation 2m³/3 flops. Measured on the 10⁵-unknown pull-out (docs/performance.md, 2280 kept
+/// unknowns, 2024 factorised): about 10 ms an iteration against 76 ms a factorisation with what
+/// goes with it, found from the dense phase's times of two Newton runs at two budgets.
+pub const ITERATIONS_PER_FACTORISATION: usize = 8;
 
 /// The sparse part C of a matrix F + C, by columns: entries of one position summed, rows in
 /// increasing order within a column.
