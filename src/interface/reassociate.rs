@@ -34,24 +34,35 @@ fn current(mesh: &Mesh, u: &[f64], n: NodeIndex) -> [f64; 2] {
     [x[0] + u[2 * n], x[1] + u[2 * n + 1]]
 }
 
+/// Arc-length coordinate of each segment's start along the deformed master path.
+fn arc_starts(mesh: &Mesh, u: &[f64], path: &[NodeIndex]) -> Vec<f64> {
+    let mut acc = 0.0;
+    let mut starts = Vec::with_capacity(path.len().saturating_sub(1));
+    for w in path.windows(2) {
+        starts.push(acc);
+        let (a, b) = (current(mesh, u, w[0]), current(mesh, u, w[1]));
+        acc += ((b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2)).sqrt();
+    }
+    starts
+}
+
 /// Projection of `x` onto the deformed master path: (segment, ξ unclamped on it, arc-length
-/// coordinate along the whole path, extended beyond its ends).
-fn project_current(mesh: &Mesh, u: &[f64], path: &[NodeIndex], x: [f64; 2], keep: Option<usize>) -> (usize, f64, f64) {
+/// coordinate along the whole path, extended beyond its ends). `starts`: the path's
+/// [`arc_starts`] (computed once for all the points of a face).
+fn project_current(
+    mesh: &Mesh,
+    u: &[f64],
+    path: &[NodeIndex],
+    starts: &[f64],
+    x: [f64; 2],
+    keep: Option<usize>,
+) -> (usize, f64, f64) {
     let seg = |s: usize| (current(mesh, u, path[s]), current(mesh, u, path[s + 1]));
     let raw_on = |s: usize| {
         let (a, b) = seg(s);
         let d = [b[0] - a[0], b[1] - a[1]];
         let len2 = d[0] * d[0] + d[1] * d[1];
         (((x[0] - a[0]) * d[0] + (x[1] - a[1]) * d[1]) / len2, len2.sqrt())
-    };
-    let starts: Vec<f64> = {
-        let mut acc = 0.0;
-        let mut v = Vec::with_capacity(path.len());
-        for s in 0..path.len() - 1 {
-            v.push(acc);
-            acc += raw_on(s).1;
-        }
-        v
     };
     let tol = 1e-9;
     // Stay on the current segment while the point is on it (no flip-flop at a shared node).
@@ -130,12 +141,13 @@ fn reassociate_face(
     let total = path_length(mesh, u, &face.master);
     let n_points = face.points.len();
     // Project every slave point on the deformed master face.
+    let starts = arc_starts(mesh, u, &face.master);
     let projections: Vec<(usize, f64, f64)> = face
         .points
         .iter()
         .map(|p| {
             let keep = p.in_contact().then_some(p.segment);
-            project_current(mesh, u, &face.master, current(mesh, u, p.slave), keep)
+            project_current(mesh, u, &face.master, &starts, current(mesh, u, p.slave), keep)
         })
         .collect();
     let arcs: Vec<f64> = projections.iter().map(|p| p.2).collect();
@@ -289,12 +301,13 @@ pub fn clip_tributaries(mesh: &Mesh, interfaces: &mut [Interface], u: &[f64]) {
         }
         for face in interface.faces.iter_mut() {
             let total = path_length(mesh, u, &face.master);
+            let starts = arc_starts(mesh, u, &face.master);
             let arcs: Vec<f64> = face
                 .points
                 .iter()
                 .map(|p| {
                     let x = current(mesh, u, p.slave);
-                    project_current(mesh, u, &face.master, x, Some(p.segment)).2
+                    project_current(mesh, u, &face.master, &starts, x, Some(p.segment)).2
                 })
                 .collect();
             clip_face_tributaries(mesh, face, u, &arcs, total);
@@ -380,12 +393,13 @@ fn face_tributary_rates(mesh: &Mesh, face: &ContactFace, u: &[f64]) -> FaceRates
         before - after
     };
     // each point's arc, ∂arc/∂x of its slave node, and the segment and ξ it projects on
+    let starts = arc_starts(mesh, u, &face.master);
     let projections: Vec<(f64, [f64; 2], usize, f64)> = face
         .points
         .iter()
         .map(|p| {
             let (segment, raw, arc) =
-                project_current(mesh, u, &face.master, current(mesh, u, p.slave), Some(p.segment));
+                project_current(mesh, u, &face.master, &starts, current(mesh, u, p.slave), Some(p.segment));
             (arc, arc_rate(mesh, u, &face.master, segment, raw), segment, raw)
         })
         .collect();
@@ -535,19 +549,21 @@ pub fn uncover_slits(mesh: &Mesh, interfaces: &mut [Interface], u: &[f64]) -> Ve
         let Some(r) = slit.slit_of else { continue };
         let Some(tail) = interfaces[r].faces.first().and_then(|f| f.points.last()).map(|p| p.slave) else { continue };
         let face = &slit.faces[0];
-        let (_, _, tail_arc) = project_current(mesh, u, &face.master, current(mesh, u, tail), None);
+        let starts = arc_starts(mesh, u, &face.master);
+        let (_, _, tail_arc) = project_current(mesh, u, &face.master, &starts, current(mesh, u, tail), None);
         tails.push((i, tail_arc, path_length(mesh, u, &face.master)));
     }
     let mut log = Vec::new();
     for (i, tail_arc, total) in tails {
         let name = interfaces[i].name.clone();
         let face = &mut interfaces[i].faces[0];
+        let starts = arc_starts(mesh, u, &face.master);
         for k in 0..face.points.len() {
             if !matches!(face.points[k].normal_state, NormalState::Covered) {
                 continue;
             }
             let x = current(mesh, u, face.points[k].slave);
-            let (segment, raw, arc) = project_current(mesh, u, &face.master, x, Some(face.points[k].segment));
+            let (segment, raw, arc) = project_current(mesh, u, &face.master, &starts, x, Some(face.points[k].segment));
             if arc > tail_arc + 1e-9 * total {
                 let p = &mut face.points[k];
                 p.normal_state = NormalState::Released;
