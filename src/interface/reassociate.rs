@@ -34,8 +34,9 @@ fn current(mesh: &Mesh, u: &[f64], n: NodeIndex) -> [f64; 2] {
     [x[0] + u[2 * n], x[1] + u[2 * n + 1]]
 }
 
-/// Arc-length coordinate of each segment's start along the deformed master path.
-fn arc_starts(mesh: &Mesh, u: &[f64], path: &[NodeIndex]) -> Vec<f64> {
+/// Arc-length coordinate of each segment's start along the deformed master path, and the path's
+/// whole length.
+fn arc_starts(mesh: &Mesh, u: &[f64], path: &[NodeIndex]) -> (Vec<f64>, f64) {
     let mut acc = 0.0;
     let mut starts = Vec::with_capacity(path.len().saturating_sub(1));
     for w in path.windows(2) {
@@ -43,7 +44,7 @@ fn arc_starts(mesh: &Mesh, u: &[f64], path: &[NodeIndex]) -> Vec<f64> {
         let (a, b) = (current(mesh, u, w[0]), current(mesh, u, w[1]));
         acc += ((b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2)).sqrt();
     }
-    starts
+    (starts, acc)
 }
 
 /// Projection of `x` onto the deformed master path: (segment, ξ unclamped on it, arc-length
@@ -92,16 +93,6 @@ fn project_current(
     (best.0, best.1, best.3)
 }
 
-/// Total length of the deformed master path.
-fn path_length(mesh: &Mesh, u: &[f64], path: &[NodeIndex]) -> f64 {
-    path.windows(2)
-        .map(|w| {
-            let (a, b) = (current(mesh, u, w[0]), current(mesh, u, w[1]));
-            ((b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2)).sqrt()
-        })
-        .sum()
-}
-
 /// How a re-associated point is tied to the master face.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Tie {
@@ -138,10 +129,9 @@ fn reassociate_face(
     log: &mut Vec<Reassociation>,
 ) {
     let nearest_node = tie == Tie::NearestNode;
-    let total = path_length(mesh, u, &face.master);
     let n_points = face.points.len();
     // Project every slave point on the deformed master face.
-    let starts = arc_starts(mesh, u, &face.master);
+    let (starts, total) = arc_starts(mesh, u, &face.master);
     let projections: Vec<(usize, f64, f64)> = face
         .points
         .iter()
@@ -300,8 +290,7 @@ pub fn clip_tributaries(mesh: &Mesh, interfaces: &mut [Interface], u: &[f64]) {
             continue;
         }
         for face in interface.faces.iter_mut() {
-            let total = path_length(mesh, u, &face.master);
-            let starts = arc_starts(mesh, u, &face.master);
+            let (starts, total) = arc_starts(mesh, u, &face.master);
             let arcs: Vec<f64> = face
                 .points
                 .iter()
@@ -343,19 +332,11 @@ pub fn tributary_rates(mesh: &Mesh, interfaces: &[Interface], u: &[f64]) -> Vec<
         .collect()
 }
 
-/// ∂arc/∂x of a point projected on `segment` of `path` at `raw` (unclamped ξ, or clamped by a kept
-/// segment): the segment's unit tangent where the arc moves with the point (on the segment, or
-/// beyond either end of the path), zero where it is held at a node.
-fn arc_rate(mesh: &Mesh, u: &[f64], path: &[NodeIndex], segment: usize, raw: f64) -> [f64; 2] {
-    let (a, b) = (current(mesh, u, path[segment]), current(mesh, u, path[segment + 1]));
-    let d = [b[0] - a[0], b[1] - a[1]];
-    let len = (d[0] * d[0] + d[1] * d[1]).sqrt();
-    let beyond = (segment == 0 && raw < 0.0) || (segment + 2 == path.len() && raw > 1.0);
-    if len > 0.0 && ((raw > 0.0 && raw < 1.0) || beyond) {
-        [d[0] / len, d[1] / len]
-    } else {
-        [0.0, 0.0]
-    }
+/// Whether the arc of a point projected on `segment` of a path of `nodes` nodes at `raw`
+/// (unclamped ξ, or clamped by a kept segment) moves with the point, by the segment's unit tangent:
+/// on the segment, or beyond either end of the path; not where it is held at a node.
+fn arc_moves(nodes: usize, segment: usize, raw: f64) -> bool {
+    (raw > 0.0 && raw < 1.0) || (segment == 0 && raw < 0.0) || (segment + 2 == nodes && raw > 1.0)
 }
 
 /// [`tributary_rates`] of one face: the derivative of [`clip_face_tributaries`] by the slave nodes,
@@ -385,7 +366,6 @@ fn face_tributary_rates(mesh: &Mesh, face: &ContactFace, u: &[f64]) -> FaceRates
     // each master segment's unit tangent: the path's length and every arc measured from its first
     // node move with them
     let tangents: Vec<[f64; 2]> = face.master.windows(2).map(|w| unit(w[0], w[1])).collect();
-    let total = path_length(mesh, u, &face.master);
     // ∂total/∂x of master node i: t_{i−1} − t_i (t_{−1} = t_{last+1} = 0)
     let total_rate = |i: usize, axis: usize| {
         let before = if i > 0 { tangents[i - 1][axis] } else { 0.0 };
@@ -393,14 +373,15 @@ fn face_tributary_rates(mesh: &Mesh, face: &ContactFace, u: &[f64]) -> FaceRates
         before - after
     };
     // each point's arc, ∂arc/∂x of its slave node, and the segment and ξ it projects on
-    let starts = arc_starts(mesh, u, &face.master);
+    let (starts, total) = arc_starts(mesh, u, &face.master);
     let projections: Vec<(f64, [f64; 2], usize, f64)> = face
         .points
         .iter()
         .map(|p| {
             let (segment, raw, arc) =
                 project_current(mesh, u, &face.master, &starts, current(mesh, u, p.slave), Some(p.segment));
-            (arc, arc_rate(mesh, u, &face.master, segment, raw), segment, raw)
+            let rate = if arc_moves(face.master.len(), segment, raw) { tangents[segment] } else { [0.0; 2] };
+            (arc, rate, segment, raw)
         })
         .collect();
     // ∂arc/∂x of master node i for a point on `segment` at `raw`: the arc to the segment's start
@@ -410,7 +391,7 @@ fn face_tributary_rates(mesh: &Mesh, face: &ContactFace, u: &[f64]) -> FaceRates
         if segment == 0 && raw == 0.0 {
             return 0.0;
         }
-        let moving = arc_rate(mesh, u, &face.master, segment, raw) != [0.0, 0.0];
+        let moving = arc_moves(face.master.len(), segment, raw);
         if i < segment {
             total_rate(i, axis)
         } else if i == segment {
@@ -549,15 +530,15 @@ pub fn uncover_slits(mesh: &Mesh, interfaces: &mut [Interface], u: &[f64]) -> Ve
         let Some(r) = slit.slit_of else { continue };
         let Some(tail) = interfaces[r].faces.first().and_then(|f| f.points.last()).map(|p| p.slave) else { continue };
         let face = &slit.faces[0];
-        let starts = arc_starts(mesh, u, &face.master);
+        let (starts, total) = arc_starts(mesh, u, &face.master);
         let (_, _, tail_arc) = project_current(mesh, u, &face.master, &starts, current(mesh, u, tail), None);
-        tails.push((i, tail_arc, path_length(mesh, u, &face.master)));
+        tails.push((i, tail_arc, total));
     }
     let mut log = Vec::new();
     for (i, tail_arc, total) in tails {
         let name = interfaces[i].name.clone();
         let face = &mut interfaces[i].faces[0];
-        let starts = arc_starts(mesh, u, &face.master);
+        let (starts, _) = arc_starts(mesh, u, &face.master);
         for k in 0..face.points.len() {
             if !matches!(face.points[k].normal_state, NormalState::Covered) {
                 continue;
