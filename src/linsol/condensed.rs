@@ -16,12 +16,12 @@
 //! does) so a condensed solve is never less accurate than a direct one.
 
 use super::csc::{CscMatrix, PatternCache, Triplets};
-use super::dense_update::{SparseColumns, UpdatedLu};
+use super::dense_update::{FixedPart, SparseColumns, UpdatedLu};
 use super::linear_system::SolverStats;
 use super::schur::Condensing;
 use super::{make_condensing, norm2, Backend, Failure, SolverOptions};
 use crate::error::SolveError;
-use faer::{Mat, MatRef};
+use faer::Mat;
 use std::time::Instant;
 
 /// The linear part as last condensed.
@@ -29,15 +29,14 @@ struct LinearPart {
     key: u64,
     kept: Vec<usize>,
     matrix: CscMatrix,
-    /// S, m × m by rows.
-    schur: Vec<f64>,
+    /// S: its dense block and its few entries outside it.
+    schur: FixedPart,
 }
 
 impl LinearPart {
-    /// S as a matrix.
-    fn schur(&self) -> MatRef<'_, f64> {
-        let m = self.kept.len();
-        MatRef::from_row_major_slice(&self.schur, m, m)
+    /// S.
+    fn schur(&self) -> &FixedPart {
+        &self.schur
     }
 }
 
@@ -132,7 +131,7 @@ impl CondensedSystem {
             stats.assembly_seconds += t.elapsed().as_secs_f64();
             let t = Instant::now();
             let schur = match self.condensing.factorize_condensed(&matrix, kept) {
-                Ok(s) => s,
+                Ok(s) => FixedPart::from_row_major(kept.len(), &s),
                 Err(e) => {
                     self.failed = Some((linear_key, kept.to_vec()));
                     return Err(e);
@@ -255,7 +254,7 @@ impl CondensedSystem {
         let b = Mat::from_fn(m, 1, |i, _| rhs_kept[i]);
         let y = dense.lu.solve(schur, &b);
         // the true residual b − S·y − C·y, whatever the solve reported: S·y is wanted anyway
-        let soil = schur * &y;
+        let soil = schur.times(y.as_ref());
         let r = &b - &soil - dense.lu.change().times(y.as_ref());
         let rn = r.norm_l2();
         self.tally(stats);

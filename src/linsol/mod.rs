@@ -3,11 +3,13 @@
 //! The symbolic analysis (`analyse`) is done once per sparsity pattern and reused; the numeric
 //! factorisation (`factorize`) once per set of values; `solve` once per right-hand side.
 
+pub mod block_lu;
 pub mod condensed;
 pub mod csc;
 pub mod dense_ref;
 pub mod dense_update;
 pub mod faer_lu;
+pub mod kept_matrix;
 pub mod linear_system;
 #[allow(unsafe_code)]
 pub mod native;

@@ -1,0 +1,296 @@
+//! The interface's kept system as a fixed dense part and a changing sparse part, M = F + C.
+//!
+//! F is the soil's Schur complement on the kept unknowns (fixed while the soil is), C the
+//! interface's springs and rows (a few entries a point, new in every iteration under large slip).
+//! C is held by columns, so that which columns changed is found on C alone, and products with M
+//! are F·x + C·x: no m × m array of M itself is ever formed. F is held as its dense block on the
+//! unknowns where it is dense (the soil's) and its few entries elsewhere (the bars' stiffness): of
+//! the pull-out box's 2280 kept unknowns at 10⁵, F is dense on 1016, a fifth of the m × m array.
+
+use faer::dyn_stack::MemStack;
+use faer::reborrow::ReborrowMut;
+use faer::{Mat, MatMut, MatRef};
+
+/// The entries a row and a column of F may hold and still be held apart from F's dense block (a
+/// bar node's own stiffness: its two unknowns and its neighbours').
+pub const SPARSE_ROW: usize = 16;
+
+const NONE: usize = usize::MAX;
+
+/// The fixed part F of a matrix F + C: a dense block on the unknowns whose row or column of F holds
+/// more than [`SPARSE_ROW`] entries, and F's nonzero entries outside it.
+#[derive(Debug, Clone)]
+pub struct FixedPart {
+    order: usize,
+    /// The unknowns of the dense block, increasing.
+    dense: Vec<usize>,
+    /// Each unknown's position among `dense`, or NONE.
+    position: Vec<usize>,
+    /// F on `dense` × `dense`.
+    block: Mat<f64>,
+    /// F's nonzero entries (i, j, value) with i or j outside `dense`.
+    entries: Vec<(usize, usize, f64)>,
+    /// Whether F has anything in row or column j.
+    in_fixed: Vec<bool>,
+}
+
+impl FixedPart {
+    /// F of order `order` from its entries by rows.
+    pub fn from_row_major(order: usize, values: &[f64]) -> FixedPart {
+        assert_eq!(values.len(), order * order, "F is order × order");
+        FixedPart::from_fn(order, |i, j| values[i * order + j])
+    }
+
+    /// F from a dense matrix.
+    pub fn from_dense(f: MatRef<'_, f64>) -> FixedPart {
+        assert_eq!(f.nrows(), f.ncols(), "F is square");
+        FixedPart::from_fn(f.nrows(), |i, j| f[(i, j)])
+    }
+
+    /// F of order m from its entries F_ij = `entry(i, j)`, read by rows.
+    fn from_fn(m: usize, entry: impl Fn(usize, usize) -> f64) -> FixedPart {
+        let (mut in_row, mut in_column) = (vec![0usize; m], vec![0usize; m]);
+        for i in 0..m {
+            for j in 0..m {
+                if entry(i, j) != 0.0 {
+                    in_row[i] += 1;
+                    in_column[j] += 1;
+                }
+            }
+        }
+        let dense: Vec<usize> = (0..m).filter(|&j| in_row[j] > SPARSE_ROW || in_column[j] > SPARSE_ROW).collect();
+        let mut position = vec![NONE; m];
+        for (p, &j) in dense.iter().enumerate() {
+            position[j] = p;
+        }
+        let block = Mat::from_fn(dense.len(), dense.len(), |p, q| entry(dense[p], dense[q]));
+        let mut entries = Vec::new();
+        for i in (0..m).filter(|&i| in_row[i] > 0) {
+            for j in 0..m {
+                let v = entry(i, j);
+                if v != 0.0 && (position[i] == NONE || position[j] == NONE) {
+                    entries.push((i, j, v));
+                }
+            }
+        }
+        let in_fixed = (0..m).map(|j| in_row[j] > 0 || in_column[j] > 0).collect();
+        FixedPart { order: m, dense, position, block, entries, in_fixed }
+    }
+
+    pub fn order(&self) -> usize {
+        self.order
+    }
+
+    /// Whether F has anything in row or column j.
+    pub fn in_fixed(&self, j: usize) -> bool {
+        self.in_fixed[j]
+    }
+
+    /// Whether unknown j lies outside F's dense block (its row and column of F are sparse).
+    pub fn is_sparse(&self, j: usize) -> bool {
+        self.position[j] == NONE
+    }
+
+    /// F's nonzero entries outside its dense block.
+    pub fn sparse_entries(&self) -> &[(usize, usize, f64)] {
+        &self.entries
+    }
+
+    /// F·x.
+    pub fn times(&self, x: MatRef<'_, f64>) -> Mat<f64> {
+        let columns = x.ncols();
+        let mut out = Mat::zeros(self.order, columns);
+        let x_dense = Mat::from_fn(self.dense.len(), columns, |p, c| x[(self.dense[p], c)]);
+        let y = &self.block * &x_dense;
+        for (p, &i) in self.dense.iter().enumerate() {
+            for c in 0..columns {
+                out[(i, c)] = y[(p, c)];
+            }
+        }
+        for &(i, j, v) in &self.entries {
+            for c in 0..columns {
+                out[(i, c)] += v * x[(j, c)];
+            }
+        }
+        out
+    }
+
+    /// F on the unknowns `among` (increasing) into `out` (of their number).
+    fn write_into(&self, mut out: MatMut<'_, f64>, among: &[usize]) {
+        out.fill(0.0);
+        // the members of the dense block: (position in `among`, position in the block)
+        let in_block: Vec<(usize, usize)> = among
+            .iter()
+            .enumerate()
+            .filter(|(_, &j)| self.position[j] != NONE)
+            .map(|(p, &j)| (p, self.position[j]))
+            .collect();
+        for &(q, bq) in &in_block {
+            let block_column = self.block.col(bq);
+            let mut out_column = out.rb_mut().col_mut(q);
+            for &(p, bp) in &in_block {
+                out_column[p] = block_column[bp];
+            }
+        }
+        if self.entries.is_empty() {
+            return;
+        }
+        let mut position = vec![NONE; self.order];
+        for (p, &i) in among.iter().enumerate() {
+            position[i] = p;
+        }
+        for &(i, j, v) in &self.entries {
+            if position[i] != NONE && position[j] != NONE {
+                out[(position[i], position[j])] += v;
+            }
+        }
+    }
+}
+
+/// The sparse part C of a matrix F + C, by columns: entries of one position summed, rows in
+/// increasing order within a column.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct SparseColumns {
+    col_ptr: Vec<usize>,
+    rows: Vec<usize>,
+    values: Vec<f64>,
+}
+
+impl SparseColumns {
+    /// C of order `m` from its entries (row, column, value) in any order, repeated positions
+    /// added.
+    pub fn from_entries(m: usize, entries: impl Iterator<Item = (usize, usize, f64)>) -> SparseColumns {
+        let mut list: Vec<(usize, usize, f64)> = entries.collect();
+        list.sort_unstable_by_key(|&(i, j, _)| (j, i));
+        let mut col_ptr = vec![0; m + 1];
+        let mut rows = Vec::with_capacity(list.len());
+        let mut values = Vec::with_capacity(list.len());
+        let mut last = None;
+        for (i, j, v) in list {
+            if last == Some((i, j)) {
+                *values.last_mut().expect("the entry before") += v;
+            } else {
+                rows.push(i);
+                values.push(v);
+                col_ptr[j + 1] += 1;
+                last = Some((i, j));
+            }
+        }
+        for j in 0..m {
+            col_ptr[j + 1] += col_ptr[j];
+        }
+        SparseColumns { col_ptr, rows, values }
+    }
+
+    pub(super) fn order(&self) -> usize {
+        self.col_ptr.len().saturating_sub(1)
+    }
+
+    /// Column j: its rows and values.
+    pub(super) fn column(&self, j: usize) -> (&[usize], &[f64]) {
+        let range = self.col_ptr[j]..self.col_ptr[j + 1];
+        (&self.rows[range.clone()], &self.values[range])
+    }
+
+    /// Whether column j holds the same entries, bit for bit, in `other`.
+    pub(super) fn same_column(&self, other: &SparseColumns, j: usize) -> bool {
+        let (a, b) = (self.column(j), other.column(j));
+        a.0 == b.0 && a.1.iter().zip(b.1).all(|(x, y)| x.to_bits() == y.to_bits())
+    }
+
+    /// C·x.
+    pub fn times(&self, x: MatRef<'_, f64>) -> Mat<f64> {
+        let mut out = Mat::zeros(self.order(), x.ncols());
+        self.add_times(x, out.as_mut());
+        out
+    }
+
+    /// out += C·x.
+    pub(super) fn add_times(&self, x: MatRef<'_, f64>, mut out: MatMut<'_, f64>) {
+        for j in 0..self.order() {
+            let (rows, values) = self.column(j);
+            for c in 0..x.ncols() {
+                let xj = x[(j, c)];
+                if xj != 0.0 {
+                    for (&i, &v) in rows.iter().zip(values) {
+                        out[(i, c)] += v * xj;
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// The matrix F + C as an operator: F·x + C·x.
+#[derive(Debug, Clone, Copy)]
+pub struct KeptMatrix<'a> {
+    pub fixed: &'a FixedPart,
+    pub change: &'a SparseColumns,
+}
+
+impl KeptMatrix<'_> {
+    /// The order of the matrix.
+    pub fn order(&self) -> usize {
+        self.fixed.order()
+    }
+
+    /// (F + C)·x.
+    pub fn times(&self, x: MatRef<'_, f64>) -> Mat<f64> {
+        let mut out = self.fixed.times(x);
+        self.change.add_times(x, out.as_mut());
+        out
+    }
+
+    /// F + C on the unknowns `among` (increasing), as a dense matrix into `out` (of their number).
+    pub(super) fn write_into(&self, mut out: MatMut<'_, f64>, among: &[usize]) {
+        self.fixed.write_into(out.rb_mut(), among);
+        let mut position = vec![NONE; self.order()];
+        for (p, &i) in among.iter().enumerate() {
+            position[i] = p;
+        }
+        for &j in among {
+            let (rows, values) = self.change.column(j);
+            for (&i, &v) in rows.iter().zip(values) {
+                if position[i] != NONE {
+                    out[(position[i], position[j])] += v;
+                }
+            }
+        }
+    }
+}
+
+impl faer::matrix_free::LinOp<f64> for KeptMatrix<'_> {
+    fn apply_scratch(&self, _rhs_ncols: usize, _par: faer::Par) -> faer::dyn_stack::StackReq {
+        faer::dyn_stack::StackReq::EMPTY
+    }
+    fn nrows(&self) -> usize {
+        self.order()
+    }
+    fn ncols(&self) -> usize {
+        self.order()
+    }
+    fn apply(&self, mut out: MatMut<'_, f64>, rhs: MatRef<'_, f64>, _: faer::Par, _: &mut MemStack) {
+        out.copy_from(self.times(rhs));
+    }
+    fn conj_apply(&self, out: MatMut<'_, f64>, rhs: MatRef<'_, f64>, par: faer::Par, stack: &mut MemStack) {
+        // real: the conjugate is the operator itself
+        self.apply(out, rhs, par, stack)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn repeated_entries_are_summed_and_columns_compared_bit_for_bit() {
+        let c = SparseColumns::from_entries(3, [(2, 1, 1.0), (0, 1, 2.0), (2, 1, 0.5)].into_iter());
+        assert_eq!(c.column(1), (&[0usize, 2][..], &[2.0, 1.5][..]));
+        assert_eq!(c.column(0).0.len() + c.column(2).0.len(), 0);
+        let d = SparseColumns::from_entries(3, [(0, 1, 2.0), (2, 1, 1.5 + 1e-16)].into_iter());
+        assert!(c.same_column(&d, 0) && c.same_column(&d, 2));
+        assert_eq!(c.same_column(&d, 1), (1.5f64 + 1e-16).to_bits() == 1.5f64.to_bits());
+        let e = SparseColumns::from_entries(3, [(0, 1, 2.0), (1, 1, 1.5)].into_iter());
+        assert!(!c.same_column(&e, 1), "the same values in other rows");
+    }
+}
