@@ -12,7 +12,7 @@
 
 use super::condensation::{self, Condensed, Deferred};
 use super::context::Context;
-use super::convergence::{balance, displacement_ok, gaps_closed, out_of_balance, IncrementError, Measures};
+use super::convergence::{balance, displacement_ok, gaps_closed, IncrementError, Measures};
 use super::correction::{apply_correction, line_search};
 use super::iteration_system::{inputs, iteration_system, IterationSystem};
 use super::non_finite::{self, Iterate};
@@ -20,7 +20,7 @@ use super::singular::{self, Fallbacks, Recovered, SingularMatrix};
 use super::soil;
 use super::springs::{self, SpringResult};
 use super::state::State;
-use crate::assembly::{round_off_floor, soil_and_bar_force, ElementMatrices, SoilView, SystemInputs};
+use crate::assembly::{soil_and_bar_force_and_floor, ElementMatrices, SoilView, SystemInputs};
 use crate::dofs::DofMap;
 use crate::element::soil_state::{SoilTrial, Tangent};
 use crate::interface::active_set::{describe, Bands, Flips};
@@ -420,9 +420,11 @@ fn start_on_interface(cx: &mut Context, dofs: &DofMap, state: &State, it: &mut I
     let t = Instant::now();
     let stiffness = &it.kept_stiffness.as_ref().expect("set by linearise").1;
     let system = linear.inputs(&cx.elements, stiffness, dofs, state);
-    let element = soil_and_bar_force(&cx.elements, system.soil, &state.bars, &state.u);
+    // (the floor with the force, in the same pass over the elements: the cheaper tests before it
+    // in start_in_balance nearly always pass)
+    let (element, floor) = soil_and_bar_force_and_floor(&cx.elements, system.soil, &state.bars, &state.u);
     let rhs = iteration_system(system, &linear.springs, state, false, Some(element.clone())).rhs;
-    let floor = || round_off_floor(&cx.elements, system.soil, &state.u);
+    let floor = || floor;
     if rhs.iter().all(|v| v.is_finite()) {
         it.deferred =
             condensation::start_in_balance(condensed, &cx.elements, dofs, state, system, &rhs, &element, &floor);
@@ -632,7 +634,10 @@ fn check(
     let t = Instant::now();
     // with the tangent the next iteration assembles (the forces do not depend on it)
     let soil_trial = soil::evaluate(&cx.setup, &state.soil, &state.u, &state.u_committed, it.fallbacks.soil_tangent);
-    let (residual, reference, element_force) = out_of_balance(&cx.elements, &soil_trial, &rows, &taus, state, dofs);
+    // the elements' force and the residual's round-off floor in one pass
+    let view = SoilView { field: &state.soil, trial: &soil_trial };
+    let (element_force, floor) = soil_and_bar_force_and_floor(&cx.elements, view, &state.bars, &state.u);
+    let (residual, reference) = balance(&element_force, &rows, &taus, state, dofs);
     cx.system.stats.residual_seconds += t.elapsed().as_secs_f64();
     if !residual.is_finite() || !reference.is_finite() {
         let iterate = Iterate { mesh: &cx.model.mesh, dofs, state, soil_trial: Some(&soil_trial), springs: &springs };
@@ -649,7 +654,7 @@ fn check(
     let measures = Measures {
         residual,
         reference,
-        floor: round_off_floor(&cx.elements, SoilView { field: &state.soil, trial: &soil_trial }, &state.u),
+        floor,
         settled: changes.is_empty(),
         gaps_closed: gaps_closed(&gaps, state, dofs, characteristic),
         displacement_ok,

@@ -450,23 +450,89 @@ pub fn add_spring_forces(f: &mut [f64], rows: &InterfaceRows, taus: &[f64]) {
 /// The soil elements' and the bars' part of the internal force: what depends on the displacements,
 /// the soil's trial state and the bars' states alone (not on the interface springs).
 pub fn soil_and_bar_force(elements: &ElementMatrices, soil: SoilView<'_>, bars: &BarStates, u: &[f64]) -> Vec<f64> {
+    let mut f = forces_and_magnitudes(elements, soil, u, false).0;
+    add_bar_forces(&mut f, elements, bars, u);
+    f
+}
+
+/// [`soil_and_bar_force`] and [`round_off_floor`] at once, in one pass over the elements.
+pub fn soil_and_bar_force_and_floor(
+    elements: &ElementMatrices,
+    soil: SoilView<'_>,
+    bars: &BarStates,
+    u: &[f64],
+) -> (Vec<f64>, f64) {
+    let (mut f, magnitudes) = forces_and_magnitudes(elements, soil, u, true);
+    add_bar_forces(&mut f, elements, bars, u);
+    (f, floor_of(&magnitudes))
+}
+
+/// The soil elements' part of the internal force, and (with `magnitudes`) per DOF the sum of the
+/// magnitudes of the element forces there (the round-off floor's): in the force the soil's K_e·u_e
+/// or its stress-carried force (the bars' come from their states: `add_bar_forces`), in the
+/// magnitudes every block's |K_e·u_e| terms and the soil's
+/// stress-carried forces (reference, Mohr–Coulomb and pore forces).
+fn forces_and_magnitudes(
+    elements: &ElementMatrices,
+    soil: SoilView<'_>,
+    u: &[f64],
+    magnitudes: bool,
+) -> (Vec<f64>, Vec<f64>) {
+    let n = u.len();
     let first_bar = elements.bars.first().map(|b| b.block).unwrap_or(elements.blocks.len());
-    let mut f = par_block_sum(&elements.blocks[..first_bar], u.len(), |s, dl, k, f| {
+    let blocks = if magnitudes { &elements.blocks[..] } else { &elements.blocks[..first_bar] };
+    // one sum of 2n: the force in the first n entries, the magnitudes in the last n
+    let width = if magnitudes { 2 * n } else { n };
+    let mut both = par_block_sum(blocks, width, |s, dl, k, f| {
+        if s >= first_bar {
+            // a bar: its magnitudes here, its force from its state (`add_bar_forces`)
+            for (a, &da) in dl.iter().enumerate() {
+                for (b, &db) in dl.iter().enumerate() {
+                    f[n + da] += (k[(a, b)] * u[db]).abs();
+                }
+            }
+            return;
+        }
         let state = &soil.field.elements[s];
         if !state.active {
             return;
+        }
+        if magnitudes {
+            let forces = [
+                state.reference_force.as_ref(),
+                state.pore_force.as_ref(),
+                soil.trial.forces.get(s).and_then(|f| f.as_ref()),
+            ];
+            for extra in forces.into_iter().flatten() {
+                for (a, &da) in dl.iter().enumerate() {
+                    f[n + da] += extra[a].abs();
+                }
+            }
         }
         if state.placed.is_none() && state.reference_force.is_none() && state.pore_force.is_none() {
             // the common case (elastic soil present from the start): K_e·u_e with no copies
             if !matches!(soil.trial.forces.get(s), Some(Some(_))) {
                 for (a, &da) in dl.iter().enumerate() {
                     let mut sum = 0.0;
+                    let mut magnitude = 0.0;
                     for (b, &db) in dl.iter().enumerate() {
-                        sum += k[(a, b)] * u[db];
+                        let term = k[(a, b)] * u[db];
+                        sum += term;
+                        magnitude += term.abs();
                     }
                     f[da] += sum;
+                    if magnitudes {
+                        f[n + da] += magnitude;
+                    }
                 }
                 return;
+            }
+        }
+        if magnitudes {
+            for (a, &da) in dl.iter().enumerate() {
+                for (b, &db) in dl.iter().enumerate() {
+                    f[n + da] += (k[(a, b)] * u[db]).abs();
+                }
             }
         }
         let u_e: Vec<f64> = dl.iter().map(|&d| u[d]).collect();
@@ -476,8 +542,8 @@ pub fn soil_and_bar_force(elements: &ElementMatrices, soil: SoilView<'_>, bars: 
             f[da] += fe[a];
         }
     });
-    add_bar_forces(&mut f, elements, bars, u);
-    f
+    let magnitudes = both.split_off(n);
+    (both, magnitudes)
 }
 
 /// The bars' part of the internal force alone.
@@ -503,30 +569,10 @@ fn add_bar_forces(f: &mut [f64], elements: &ElementMatrices, bars: &BarStates, u
 /// magnitudes of the element forces that cancel there) times a few ε. A residual below it cannot be
 /// reduced by iterating.
 pub fn round_off_floor(elements: &ElementMatrices, soil: SoilView<'_>, u: &[f64]) -> f64 {
-    let first_bar = elements.bars.first().map(|b| b.block).unwrap_or(elements.blocks.len());
-    let f = par_block_sum(&elements.blocks, u.len(), |s, dl, k, f| {
-        if s < first_bar {
-            let state = &soil.field.elements[s];
-            if !state.active {
-                return;
-            }
-            // the stress-carried forces: reference, Mohr–Coulomb and pore forces
-            let forces = [
-                state.reference_force.as_ref(),
-                state.pore_force.as_ref(),
-                soil.trial.forces.get(s).and_then(|f| f.as_ref()),
-            ];
-            for extra in forces.into_iter().flatten() {
-                for (a, &da) in dl.iter().enumerate() {
-                    f[da] += extra[a].abs();
-                }
-            }
-        }
-        for (a, &da) in dl.iter().enumerate() {
-            for (b, &db) in dl.iter().enumerate() {
-                f[da] += (k[(a, b)] * u[db]).abs();
-            }
-        }
-    });
-    64.0 * f64::EPSILON * f.iter().map(|v| v * v).sum::<f64>().sqrt()
+    floor_of(&forces_and_magnitudes(elements, soil, u, true).1)
+}
+
+/// 64 ε ‖magnitudes‖.
+fn floor_of(magnitudes: &[f64]) -> f64 {
+    64.0 * f64::EPSILON * magnitudes.iter().map(|v| v * v).sum::<f64>().sqrt()
 }
