@@ -15,6 +15,7 @@
 //! Every solution is checked against A itself (‖Ax − b‖/‖b‖, refined as [`super::linear_system`]
 //! does) so a condensed solve is never less accurate than a direct one.
 
+use super::coupled_kept::CoupledKept;
 use super::csc::{CscMatrix, PatternCache, Triplets};
 use super::dense_update::{FixedPart, SparseColumns, UpdatedLu};
 use super::linear_system::SolverStats;
@@ -31,6 +32,8 @@ struct LinearPart {
     matrix: CscMatrix,
     /// S: its dense block and its few entries outside it.
     schur: FixedPart,
+    /// The kept unknowns the interior reaches, which alone the backend condensed onto.
+    coupled: CoupledKept,
 }
 
 impl LinearPart {
@@ -130,8 +133,8 @@ impl CondensedSystem {
             drop(triplets);
             stats.assembly_seconds += t.elapsed().as_secs_f64();
             let t = Instant::now();
-            let schur = match self.condensing.factorize_condensed(&matrix, kept) {
-                Ok(s) => FixedPart::from_row_major(kept.len(), &s),
+            let (schur, coupled) = match CoupledKept::condense_onto(self.condensing.as_mut(), &matrix, kept) {
+                Ok(s) => s,
                 Err(e) => {
                     self.failed = Some((linear_key, kept.to_vec()));
                     return Err(e);
@@ -144,7 +147,7 @@ impl CondensedSystem {
             for (k, &e) in kept.iter().enumerate() {
                 self.position[e] = Some(k);
             }
-            self.linear = Some(LinearPart { key: linear_key, kept: kept.to_vec(), matrix, schur });
+            self.linear = Some(LinearPart { key: linear_key, kept: kept.to_vec(), matrix, schur, coupled });
         }
         let m = kept.len();
         if self.dense.as_ref().is_none_or(|d| d.key != change_key) {
@@ -295,8 +298,8 @@ impl CondensedSystem {
         let Some(linear) = self.linear.as_ref() else { return Err(Failure::Singular { equations: Vec::new() }) };
         let zero = vec![0.0; linear.matrix.pattern.n()];
         let t = Instant::now();
-        self.condensing.condense(&zero)?;
-        let x = self.condensing.expand(&zero, moved)?;
+        linear.coupled.condense(self.condensing.as_mut(), &zero)?;
+        let x = linear.coupled.expand(self.condensing.as_mut(), &zero, moved)?;
         stats.solve_seconds += t.elapsed().as_secs_f64();
         stats.solves += 1;
         Ok(x)
@@ -305,7 +308,8 @@ impl CondensedSystem {
     /// Condense, solve densely, expand.
     fn solve_once(&mut self, stats: &mut SolverStats, rhs: &[f64]) -> Result<Vec<f64>, Failure> {
         let t = Instant::now();
-        let reduced = self.condensing.condense(rhs)?;
+        let coupled = &self.linear.as_ref().expect("condensed before").coupled;
+        let reduced = coupled.condense(self.condensing.as_mut(), rhs)?;
         stats.solve_seconds += t.elapsed().as_secs_f64();
         let t = Instant::now();
         let m = reduced.len();
@@ -316,7 +320,8 @@ impl CondensedSystem {
         let kept_solution: Vec<f64> = (0..m).map(|i| y[(i, 0)]).collect();
         stats.dense_seconds += t.elapsed().as_secs_f64();
         let t = Instant::now();
-        let x = self.condensing.expand(rhs, &kept_solution)?;
+        let coupled = &self.linear.as_ref().expect("condensed before").coupled;
+        let x = coupled.expand(self.condensing.as_mut(), rhs, &kept_solution)?;
         stats.solve_seconds += t.elapsed().as_secs_f64();
         stats.solves += 1;
         Ok(x)

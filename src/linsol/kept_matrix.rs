@@ -37,44 +37,70 @@ pub struct FixedPart {
 impl FixedPart {
     /// F of order `order` from its entries by rows.
     pub fn from_row_major(order: usize, values: &[f64]) -> FixedPart {
-        assert_eq!(values.len(), order * order, "F is order × order");
-        FixedPart::from_fn(order, |i, j| values[i * order + j])
+        let all: Vec<usize> = (0..order).collect();
+        FixedPart::from_blocks(order, &all, values, Vec::new())
     }
 
     /// F from a dense matrix.
     pub fn from_dense(f: MatRef<'_, f64>) -> FixedPart {
         assert_eq!(f.nrows(), f.ncols(), "F is square");
-        FixedPart::from_fn(f.nrows(), |i, j| f[(i, j)])
+        let m = f.nrows();
+        let values: Vec<f64> = (0..m * m).map(|k| f[(k / m, k % m)]).collect();
+        FixedPart::from_row_major(m, &values)
     }
 
-    /// F of order m from its entries F_ij = `entry(i, j)`, read by rows.
-    fn from_fn(m: usize, entry: impl Fn(usize, usize) -> f64) -> FixedPart {
-        let (mut in_row, mut in_column) = (vec![0usize; m], vec![0usize; m]);
-        for i in 0..m {
-            for j in 0..m {
-                if entry(i, j) != 0.0 {
-                    in_row[i] += 1;
-                    in_column[j] += 1;
+    /// F of order `order` from its dense part `coupled_block` (row by row) on the unknowns
+    /// `coupled` (increasing) and its entries elsewhere (`entries`: (i, j, value), each in a row or
+    /// column outside `coupled`).
+    pub fn from_blocks(
+        order: usize,
+        coupled: &[usize],
+        coupled_block: &[f64],
+        entries: Vec<(usize, usize, f64)>,
+    ) -> FixedPart {
+        let k = coupled.len();
+        assert_eq!(coupled_block.len(), k * k, "the coupled block is k × k");
+        let (mut in_row, mut in_column) = (vec![0usize; order], vec![0usize; order]);
+        for a in 0..k {
+            for b in 0..k {
+                if coupled_block[a * k + b] != 0.0 {
+                    in_row[coupled[a]] += 1;
+                    in_column[coupled[b]] += 1;
                 }
             }
         }
-        let dense: Vec<usize> = (0..m).filter(|&j| in_row[j] > SPARSE_ROW || in_column[j] > SPARSE_ROW).collect();
-        let mut position = vec![NONE; m];
+        let entries: Vec<(usize, usize, f64)> = entries.into_iter().filter(|e| e.2 != 0.0).collect();
+        for &(i, j, _) in &entries {
+            in_row[i] += 1;
+            in_column[j] += 1;
+        }
+        let dense: Vec<usize> = (0..order).filter(|&j| in_row[j] > SPARSE_ROW || in_column[j] > SPARSE_ROW).collect();
+        let mut position = vec![NONE; order];
         for (p, &j) in dense.iter().enumerate() {
             position[j] = p;
         }
-        let block = Mat::from_fn(dense.len(), dense.len(), |p, q| entry(dense[p], dense[q]));
-        let mut entries = Vec::new();
-        for i in (0..m).filter(|&i| in_row[i] > 0) {
-            for j in 0..m {
-                let v = entry(i, j);
-                if v != 0.0 && (position[i] == NONE || position[j] == NONE) {
-                    entries.push((i, j, v));
+        let mut block = Mat::zeros(dense.len(), dense.len());
+        let mut outside = Vec::new();
+        let mut place = |i: usize, j: usize, v: f64| {
+            if position[i] != NONE && position[j] != NONE {
+                block[(position[i], position[j])] += v;
+            } else {
+                outside.push((i, j, v));
+            }
+        };
+        for a in 0..k {
+            for b in 0..k {
+                let v = coupled_block[a * k + b];
+                if v != 0.0 {
+                    place(coupled[a], coupled[b], v);
                 }
             }
         }
-        let in_fixed = (0..m).map(|j| in_row[j] > 0 || in_column[j] > 0).collect();
-        FixedPart { order: m, dense, position, block, entries, in_fixed }
+        for (i, j, v) in entries {
+            place(i, j, v);
+        }
+        let in_fixed = (0..order).map(|j| in_row[j] > 0 || in_column[j] > 0).collect();
+        FixedPart { order, dense, position, block, entries: outside, in_fixed }
     }
 
     pub fn order(&self) -> usize {

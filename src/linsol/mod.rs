@@ -5,6 +5,7 @@
 
 pub mod block_lu;
 pub mod condensed;
+pub mod coupled_kept;
 pub mod csc;
 pub mod dense_ref;
 pub mod dense_update;
