@@ -229,7 +229,7 @@ impl Deferred {
 
 /// An interface iteration from the start of an increment, where the soil is elastic and condensed
 /// as it is now, onto the unknowns the interface touches now, and the right-hand side `rhs` is no
-/// more than round-off (`floor`, computed when needed) off the kept unknowns: the interior is in balance as the last
+/// more than round-off (`floor`) off the kept unknowns: the interior is in balance as the last
 /// increment's end left it (its interior followed the interface), and the increment's load moved
 /// the kept unknowns alone (a pulled reinforcement's head). `element_force`: the elements' part of
 /// the internal force at the current displacements.
@@ -242,7 +242,7 @@ pub fn start_in_balance(
     system: SystemInputs,
     rhs: &[f64],
     element_force: &[f64],
-    floor: &dyn Fn() -> f64,
+    floor: f64,
 ) -> Option<Deferred> {
     if system.soil.trial.tangents.iter().any(Option::is_some) {
         return None;
@@ -256,8 +256,6 @@ pub fn start_in_balance(
         is_kept[e] = true;
     }
     let interior: f64 = rhs.iter().zip(&is_kept).filter(|(_, &k)| !k).map(|(r, _)| r * r).sum::<f64>().sqrt();
-    // (the floor, a pass over every element, only once the cheaper tests have passed)
-    let floor = floor();
     if !(interior <= floor) {
         return None;
     }

@@ -111,7 +111,7 @@ pub struct Measures {
     pub residual: f64,
     /// The reference force: applied loads and reactions.
     pub reference: f64,
-    /// The round-off floor of the residual (see `assembly::round_off_floor`).
+    /// The round-off floor of the residual (see `assembly::soil_and_bar_force_and_floor`).
     pub floor: f64,
     /// No interface point changed state and no bar ruptured in this iteration.
     pub settled: bool,

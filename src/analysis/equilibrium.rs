@@ -420,14 +420,12 @@ fn start_on_interface(cx: &mut Context, dofs: &DofMap, state: &State, it: &mut I
     let t = Instant::now();
     let stiffness = &it.kept_stiffness.as_ref().expect("set by linearise").1;
     let system = linear.inputs(&cx.elements, stiffness, dofs, state);
-    // (the floor with the force, in the same pass over the elements: the cheaper tests before it
-    // in start_in_balance nearly always pass)
+    // (the residual's round-off floor with the force, in the same pass over the elements)
     let (element, floor) = soil_and_bar_force_and_floor(&cx.elements, system.soil, &state.bars, &state.u);
     let rhs = iteration_system(system, &linear.springs, state, false, Some(element.clone())).rhs;
-    let floor = || floor;
     if rhs.iter().all(|v| v.is_finite()) {
         it.deferred =
-            condensation::start_in_balance(condensed, &cx.elements, dofs, state, system, &rhs, &element, &floor);
+            condensation::start_in_balance(condensed, &cx.elements, dofs, state, system, &rhs, &element, floor);
     }
     cx.system.stats.assembly_seconds += t.elapsed().as_secs_f64();
     it.carried_element_force = Some(element);

@@ -4,6 +4,6 @@
 pub mod system;
 
 pub use system::{
-    add_spring_forces, bar_force, internal_force, round_off_floor, soil_and_bar_force, soil_and_bar_force_and_floor,
-    ElementMatrices, SoilView, SystemInputs,
+    add_spring_forces, bar_force, internal_force, soil_and_bar_force, soil_and_bar_force_and_floor, ElementMatrices,
+    SoilView, SystemInputs,
 };

@@ -455,7 +455,11 @@ pub fn soil_and_bar_force(elements: &ElementMatrices, soil: SoilView<'_>, bars: 
     f
 }
 
-/// [`soil_and_bar_force`] and [`round_off_floor`] at once, in one pass over the elements.
+/// [`soil_and_bar_force`] and the residual's round-off floor, in one pass over the elements.
+///
+/// The round-off floor of the out-of-balance force: ‖Σ_e |K_e·u_e|‖ (per DOF, the sum of the
+/// magnitudes of the element forces that cancel there) times a few ε. A residual below it cannot be
+/// reduced by iterating.
 pub fn soil_and_bar_force_and_floor(
     elements: &ElementMatrices,
     soil: SoilView<'_>,
@@ -563,13 +567,6 @@ fn add_bar_forces(f: &mut [f64], elements: &ElementMatrices, bars: &BarStates, u
         f[dl[2]] += t * e[0];
         f[dl[3]] += t * e[1];
     }
-}
-
-/// The round-off floor of the out-of-balance force: ‖Σ_e |K_e·u_e|‖ (per DOF, the sum of the
-/// magnitudes of the element forces that cancel there) times a few ε. A residual below it cannot be
-/// reduced by iterating.
-pub fn round_off_floor(elements: &ElementMatrices, soil: SoilView<'_>, u: &[f64]) -> f64 {
-    floor_of(&forces_and_magnitudes(elements, soil, u, true).1)
 }
 
 /// 64 ε ‖magnitudes‖.

@@ -28,11 +28,11 @@ use std::time::Instant;
 /// The linear part as last condensed.
 struct LinearPart {
     key: u64,
-    kept: Vec<usize>,
     matrix: CscMatrix,
     /// S: its dense block and its few entries outside it.
     schur: FixedPart,
-    /// The kept unknowns the interior reaches, which alone the backend condensed onto.
+    /// The kept unknowns, and those of them the interior reaches, which alone the backend
+    /// condensed onto.
     coupled: CoupledKept,
 }
 
@@ -97,7 +97,7 @@ impl CondensedSystem {
 
     /// The kept unknowns and the key of the linear part last condensed.
     pub fn condensed_on(&self) -> Option<(&[usize], u64)> {
-        self.linear.as_ref().map(|l| (l.kept.as_slice(), l.key))
+        self.linear.as_ref().map(|l| (l.coupled.kept(), l.key))
     }
 
     /// Whether every entry of `change` lies among `kept` (sorted equations).
@@ -119,7 +119,7 @@ impl CondensedSystem {
         change_key: u64,
         change: &Triplets,
     ) -> Result<(), Failure> {
-        let current = self.linear.as_ref().is_some_and(|l| l.key == linear_key && l.kept == kept);
+        let current = self.linear.as_ref().is_some_and(|l| l.key == linear_key && l.coupled.kept() == kept);
         if !current {
             if self.failed.as_ref().is_some_and(|(k, list)| *k == linear_key && list == kept) {
                 return Err(Failure::Singular { equations: Vec::new() });
@@ -147,7 +147,7 @@ impl CondensedSystem {
             for (k, &e) in kept.iter().enumerate() {
                 self.position[e] = Some(k);
             }
-            self.linear = Some(LinearPart { key: linear_key, kept: kept.to_vec(), matrix, schur, coupled });
+            self.linear = Some(LinearPart { key: linear_key, matrix, schur, coupled });
         }
         let m = kept.len();
         if self.dense.as_ref().is_none_or(|d| d.key != change_key) {
@@ -247,7 +247,7 @@ impl CondensedSystem {
         if linear.key != linear_key {
             return Err(Failure::Singular { equations: Vec::new() });
         }
-        let (n, kept) = (linear.matrix.pattern.n(), linear.kept.clone());
+        let (n, kept) = (linear.matrix.pattern.n(), linear.coupled.kept().to_vec());
         let none = || Triplets::default();
         self.prepare(stats, n, &kept, linear_key, &none, change_key, change)?;
         let t = Instant::now();
@@ -343,11 +343,11 @@ impl CondensedSystem {
         let linear = self.linear.as_ref().expect("set before a solve");
         let change = self.dense.as_ref().expect("factorised before a solve").lu.change();
         let mut ax = linear.matrix.mul_vec(x);
-        let m = linear.kept.len();
-        let x_kept = Mat::from_fn(m, 1, |k, _| x[linear.kept[k]]);
+        let kept = linear.coupled.kept();
+        let x_kept = Mat::from_fn(kept.len(), 1, |k, _| x[kept[k]]);
         // C·x on the kept unknowns (L is in the product above)
         let cx = change.times(x_kept.as_ref());
-        for (k, &e) in linear.kept.iter().enumerate() {
+        for (k, &e) in kept.iter().enumerate() {
             ax[e] += cx[(k, 0)];
         }
         rhs.iter().zip(&ax).map(|(b, a)| b - a).collect()

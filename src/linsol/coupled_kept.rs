@@ -110,6 +110,11 @@ impl CoupledKept {
         Ok((fixed, CoupledKept { reduced_of, reduced_n, coupled, apart, kept: kept.to_vec() }))
     }
 
+    /// The kept equations, sorted.
+    pub fn kept(&self) -> &[usize] {
+        &self.kept
+    }
+
     /// The kept unknowns the interior reaches (K₁) and the others (K₂).
     pub fn counts(&self) -> (usize, usize) {
         (self.coupled.len(), self.apart.len())
