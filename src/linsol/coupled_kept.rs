@@ -16,7 +16,7 @@
 //! At the pull-out box of 10⁵ unknowns the backend's Schur complement is of 1012 unknowns instead
 //! of 2280 (MUMPS's last front and its dense copy a fifth of the size).
 
-use super::csc::{CscMatrix, PatternCache, Triplets};
+use super::csc::CscMatrix;
 use super::kept_matrix::FixedPart;
 use super::schur::Condensing;
 use super::Failure;
@@ -86,24 +86,14 @@ impl CoupledKept {
                 reduced_n += 1;
             }
         }
-        // L's entries in K₂'s rows or columns (both kept: K₂ has no interior entries), and the
-        // reduced L
-        let mut entries = Vec::new();
-        let mut reduced = Triplets::with_capacity(matrix.values.len());
-        for j in 0..n {
-            for k in col_ptr[j]..col_ptr[j + 1] {
-                let i = row_idx[k];
-                let v = matrix.values[k];
-                if reduced_of[i] != NONE && reduced_of[j] != NONE {
-                    reduced.push(reduced_of[i], reduced_of[j], v);
-                } else {
-                    entries.push((position[i], position[j], v));
-                }
-            }
-        }
+        // the reduced L, and L's entries in K₂'s rows or columns (both kept: K₂ has no interior
+        // entries)
+        let new_index: Vec<Option<usize>> = reduced_of.iter().map(|&r| (r != NONE).then_some(r)).collect();
+        let (reduced_matrix, left_out) = matrix.principal_submatrix(&new_index, reduced_n);
+        drop(new_index);
+        let entries: Vec<(usize, usize, f64)> =
+            left_out.into_iter().map(|(i, j, v)| (position[i], position[j], v)).collect();
         let reduced_kept: Vec<usize> = coupled.iter().map(|&k| reduced_of[kept[k]]).collect();
-        let (reduced_matrix, _) = PatternCache::default().assemble(reduced_n, &reduced);
-        drop(reduced);
         let s11 = condensing.factorize_condensed(&reduced_matrix, &reduced_kept)?;
         drop(reduced_matrix);
         let fixed = FixedPart::from_blocks(kept.len(), &coupled, &s11, entries);
@@ -177,6 +167,7 @@ mod tests {
     //! every backend: a chain of springs (the soil), a bar of two unknowns tied to one kept soil
     //! unknown and not to the interior, and a multiplier with nothing in L.
     use super::*;
+    use crate::linsol::csc::{PatternCache, Triplets};
     use crate::linsol::{make_condensing, Backend, SolverOptions};
     use faer::linalg::solvers::Solve;
     use faer::Mat;

@@ -79,6 +79,50 @@ impl CscMatrix {
         y
     }
 
+    /// The rows and columns `new_index` maps to a number (in the same order as the equations:
+    /// increasing), as a matrix of `n_new` equations, and every entry left out, as (row, column,
+    /// value) of this matrix. No sort: an increasing map keeps each column's rows sorted.
+    ///
+    /// # Panics
+    /// If the numbers `new_index` gives are not increasing and below `n_new`.
+    pub fn principal_submatrix(
+        &self,
+        new_index: &[Option<usize>],
+        n_new: usize,
+    ) -> (CscMatrix, Vec<(usize, usize, f64)>) {
+        let p = &self.pattern;
+        assert_eq!(new_index.len(), p.n);
+        let numbers: Vec<usize> = new_index.iter().flatten().copied().collect();
+        assert!(
+            numbers.len() == n_new && numbers.iter().enumerate().all(|(k, &r)| k == r),
+            "not an increasing map onto 0..n_new"
+        );
+        let mut col_ptr = Vec::with_capacity(n_new + 1);
+        col_ptr.push(0);
+        let mut row_idx = Vec::with_capacity(p.row_idx.len());
+        let mut values = Vec::with_capacity(p.row_idx.len());
+        let mut left_out = Vec::new();
+        for j in 0..p.n {
+            for k in p.col_ptr[j]..p.col_ptr[j + 1] {
+                let i = p.row_idx[k];
+                match (new_index[i], new_index[j]) {
+                    (Some(r), Some(_)) => {
+                        row_idx.push(r);
+                        values.push(self.values[k]);
+                    }
+                    _ => left_out.push((i, j, self.values[k])),
+                }
+            }
+            if new_index[j].is_some() {
+                col_ptr.push(row_idx.len());
+            }
+        }
+        row_idx.shrink_to_fit();
+        values.shrink_to_fit();
+        let pattern = CscPattern { n: n_new, col_ptr, row_idx };
+        (CscMatrix { pattern: Arc::new(pattern), values }, left_out)
+    }
+
     /// Dense copy (for the reference solver and small diagnostics).
     pub fn to_dense(&self) -> Vec<Vec<f64>> {
         let p = &self.pattern;
@@ -208,6 +252,40 @@ impl PatternCache {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_principal_submatrix_keeps_its_entries_and_gives_back_the_others() {
+        // a 4 × 4 matrix with entries a_ij = 10 i + j + 1 where i + j is even or i = j + 1
+        let mut t = Triplets::default();
+        for i in 0..4 {
+            for j in 0..4 {
+                if (i + j) % 2 == 0 || i == j + 1 {
+                    t.push(i, j, (10 * i + j + 1) as f64);
+                }
+            }
+        }
+        let (a, _) = PatternCache::default().assemble(4, &t);
+        // equations 0, 2 and 3 kept, as 0, 1 and 2
+        let (sub, left_out) = a.principal_submatrix(&[Some(0), None, Some(1), Some(2)], 3);
+        let kept = [0, 2, 3];
+        let dense = sub.to_dense();
+        let whole = a.to_dense();
+        for (p, &i) in kept.iter().enumerate() {
+            for (q, &j) in kept.iter().enumerate() {
+                assert_eq!(dense[p][q], whole[i][j], "({i}, {j})");
+            }
+        }
+        let mut expected: Vec<(usize, usize, f64)> = Vec::new();
+        for j in 0..4 {
+            for (i, row) in whole.iter().enumerate() {
+                if (i == 1 || j == 1) && row[j] != 0.0 {
+                    expected.push((i, j, row[j]));
+                }
+            }
+        }
+        assert_eq!(left_out, expected);
+        assert_eq!(sub.pattern.nnz() + left_out.len(), a.pattern.nnz());
+    }
 
     #[test]
     fn duplicates_are_summed_and_the_map_is_reused() {

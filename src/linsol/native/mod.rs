@@ -1,4 +1,4 @@
-//! The native backends, and the only unsafe code in geoslip.
+//! The native backends and the C heap they share, and the only unsafe code in geoslip.
 //!
 //! Each backend has one struct that owns its native handle: created (and null-checked) in `new`,
 //! freed in `Drop`. No raw pointer leaves this module. MUMPS calls hold `geoslip_sys::MUMPS_LOCK`.
@@ -6,6 +6,7 @@
 
 #[cfg(all(geoslip_mumps, feature = "mpi"))]
 pub mod cluster;
+pub mod heap;
 #[cfg(geoslip_mumps)]
 pub mod mumps;
 #[cfg(geoslip_umfpack)]

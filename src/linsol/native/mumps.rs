@@ -386,6 +386,20 @@ impl LinearSolver for Mumps {
 }
 
 impl Mumps {
+    /// Let the copy of the matrix handed to MUMPS go (its pointers cleared first). The factors
+    /// stay; a factorisation needs a new analysis.
+    fn release_matrix(&mut self) {
+        let id = &mut *self.id;
+        id.irn = std::ptr::null_mut();
+        id.jcn = std::ptr::null_mut();
+        id.a = std::ptr::null_mut();
+        self.positions = Vec::new();
+        self.irn = Vec::new();
+        self.jcn = Vec::new();
+        self.a = Vec::new();
+        self.analysed = false;
+    }
+
     /// JOB = 3 with ICNTL(26) = `phase` (1: condensation, 2: expansion) on the right-hand side
     /// kept between the two and the reduced right-hand side.
     fn reduced_solve(&mut self, phase: i32) -> Result<(), Failure> {
@@ -423,6 +437,11 @@ impl crate::linsol::schur::Condensing for Mumps {
         self.reduced_rhs = vec![0.0; m];
         self.analyse(matrix)?;
         self.factorize(matrix)?;
+        // The matrix handed over is not read again: the condensation and the expansion (JOB = 3
+        // without ICNTL(10) or (11)) use the factors alone, and the next condensed factorisation
+        // analyses afresh. Its copy goes (at 10⁵ unknowns 23 MB beside the factors for the whole
+        // run), and with it the analysis it belonged to.
+        self.release_matrix();
         // MUMPS has written the complement: the buffer is handed over (a new one is made for the
         // next factorisation)
         let mut s = std::mem::take(&mut self.schur);
