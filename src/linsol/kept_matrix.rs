@@ -41,6 +41,33 @@ impl FixedPart {
         FixedPart::from_blocks(order, &all, values, Vec::new())
     }
 
+    /// F on the rows and columns `positions` (of its unknowns), by rows: the `coupled_block` it
+    /// was made from ([`FixedPart::from_blocks`]) when `positions` are those `coupled`.
+    pub fn principal(&self, positions: &[usize]) -> Vec<f64> {
+        let k = positions.len();
+        let mut at = vec![NONE; self.order];
+        for (a, &p) in positions.iter().enumerate() {
+            at[p] = a;
+        }
+        let mut out = vec![0.0; k * k];
+        for (a, &i) in self.dense.iter().enumerate() {
+            if at[i] == NONE {
+                continue;
+            }
+            for (b, &j) in self.dense.iter().enumerate() {
+                if at[j] != NONE {
+                    out[at[i] * k + at[j]] = self.block[(a, b)];
+                }
+            }
+        }
+        for &(i, j, v) in &self.entries {
+            if at[i] != NONE && at[j] != NONE {
+                out[at[i] * k + at[j]] += v;
+            }
+        }
+        out
+    }
+
     /// F from a dense matrix.
     pub fn from_dense(f: MatRef<'_, f64>) -> FixedPart {
         assert_eq!(f.nrows(), f.ncols(), "F is square");
