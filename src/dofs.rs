@@ -31,6 +31,8 @@ pub struct DofMap {
     pub equation: Vec<Option<usize>>,
     pub free_count: usize,
     pub multipliers: Vec<MultiplierRef>,
+    /// A fingerprint of `equation`, made once (a matrix's key hashes it every iteration).
+    equation_key: u64,
 }
 
 impl DofMap {
@@ -43,7 +45,18 @@ impl DofMap {
                 next += 1;
             }
         }
-        DofMap { equation, free_count: next, multipliers: multipliers(interfaces) }
+        let equation_key = {
+            use std::hash::{Hash, Hasher};
+            let mut h = std::collections::hash_map::DefaultHasher::new();
+            equation.hash(&mut h);
+            h.finish()
+        };
+        DofMap { equation, free_count: next, multipliers: multipliers(interfaces), equation_key }
+    }
+
+    /// A fingerprint of which DOFs are free and their equation numbers.
+    pub fn equation_key(&self) -> u64 {
+        self.equation_key
     }
 
     /// Number of unknowns of the saddle-point system.

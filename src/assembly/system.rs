@@ -210,16 +210,9 @@ impl SystemInputs<'_> {
     pub fn soil_fingerprint(&self) -> u64 {
         use std::hash::{Hash, Hasher};
         let mut h = std::collections::hash_map::DefaultHasher::new();
-        for (state, tangent) in self.soil.field.elements.iter().zip(&self.soil.trial.tangents) {
-            state.active.hash(&mut h);
-            if let Some(k) = tangent {
-                for v in k.iter() {
-                    v.to_bits().hash(&mut h);
-                }
-            }
-        }
+        hash_soil(self.soil, &mut h);
         self.soil.trial.tangents.len().hash(&mut h);
-        self.dofs.equation.hash(&mut h);
+        self.dofs.equation_key().hash(&mut h);
         h.finish()
     }
 
@@ -407,20 +400,34 @@ impl SystemInputs<'_> {
         }
         bars.ruptured.hash(&mut h);
         bars.absent.hash(&mut h);
-        for (state, tangent) in soil.field.elements.iter().zip(&soil.trial.tangents) {
-            state.active.hash(&mut h);
-            if let Some(k) = tangent {
-                for v in k.iter() {
-                    v.to_bits().hash(&mut h);
-                }
-            }
-        }
+        hash_soil(soil, &mut h);
         for k in 0..dofs.multipliers.len() {
             multiplier_is_active(interfaces, dofs.multipliers[k]).hash(&mut h);
         }
         scale.to_bits().hash(&mut h);
         h.finish()
     }
+}
+
+/// Which soil elements are present (64 to a word) and the tangents of those that have one, into
+/// `h`.
+fn hash_soil(soil: SoilView<'_>, h: &mut impl std::hash::Hasher) {
+    use std::hash::Hash;
+    let mut word = 0u64;
+    for (e, (state, tangent)) in soil.field.elements.iter().zip(&soil.trial.tangents).enumerate() {
+        word |= u64::from(state.active) << (e % 64);
+        if e % 64 == 63 {
+            word.hash(h);
+            word = 0;
+        }
+        if let Some(k) = tangent {
+            e.hash(h);
+            for v in k.iter() {
+                v.to_bits().hash(h);
+            }
+        }
+    }
+    word.hash(h);
 }
 
 /// Internal forces over all displacement DOFs: the elements' K_e·u_e plus the springs' τ·ℓ·row (the

@@ -60,44 +60,50 @@ pub struct BadJacobian {
 
 /// Shape functions and their natural derivatives at (ξ, η).
 pub fn shape(kind: SolidKind, xi: f64, eta: f64) -> (Vec<f64>, Vec<[f64; 2]>) {
+    let (mut n, mut d) = (Vec::with_capacity(8), Vec::with_capacity(8));
+    shape_into(kind, xi, eta, &mut n, &mut d);
+    (n, d)
+}
+
+/// [`shape`] into `n` and `d` (cleared first), which keep their room for the next point.
+fn shape_into(kind: SolidKind, xi: f64, eta: f64, n: &mut Vec<f64>, d: &mut Vec<[f64; 2]>) {
+    n.clear();
+    d.clear();
     match kind {
-        SolidKind::Tri3 => (vec![1.0 - xi - eta, xi, eta], vec![[-1.0, -1.0], [1.0, 0.0], [0.0, 1.0]]),
+        SolidKind::Tri3 => {
+            n.extend([1.0 - xi - eta, xi, eta]);
+            d.extend([[-1.0, -1.0], [1.0, 0.0], [0.0, 1.0]]);
+        }
         SolidKind::Tri6 => {
             let (l1, l2, l3) = (1.0 - xi - eta, xi, eta);
-            let n = vec![
+            n.extend([
                 l1 * (2.0 * l1 - 1.0),
                 l2 * (2.0 * l2 - 1.0),
                 l3 * (2.0 * l3 - 1.0),
                 4.0 * l1 * l2,
                 4.0 * l2 * l3,
                 4.0 * l3 * l1,
-            ];
+            ]);
             // dL1 = (-1,-1), dL2 = (1,0), dL3 = (0,1)
-            let d = vec![
+            d.extend([
                 [-(4.0 * l1 - 1.0), -(4.0 * l1 - 1.0)],
                 [4.0 * l2 - 1.0, 0.0],
                 [0.0, 4.0 * l3 - 1.0],
                 [4.0 * (l1 - l2), -4.0 * l2],
                 [4.0 * l3, 4.0 * l2],
                 [-4.0 * l3, 4.0 * (l1 - l3)],
-            ];
-            (n, d)
+            ]);
         }
         SolidKind::Quad4 => {
             const C: [[f64; 2]; 4] = [[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]];
-            let mut n = Vec::with_capacity(4);
-            let mut d = Vec::with_capacity(4);
             for [a, b] in C {
                 n.push(0.25 * (1.0 + a * xi) * (1.0 + b * eta));
                 d.push([0.25 * a * (1.0 + b * eta), 0.25 * b * (1.0 + a * xi)]);
             }
-            (n, d)
         }
         SolidKind::Quad8 => {
             const C: [[f64; 2]; 4] = [[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]];
             const M: [[f64; 2]; 4] = [[0.0, -1.0], [1.0, 0.0], [0.0, 1.0], [-1.0, 0.0]];
-            let mut n = Vec::with_capacity(8);
-            let mut d = Vec::with_capacity(8);
             for [a, b] in C {
                 let (p, q) = (1.0 + a * xi, 1.0 + b * eta);
                 let s = a * xi + b * eta - 1.0;
@@ -113,7 +119,6 @@ pub fn shape(kind: SolidKind, xi: f64, eta: f64) -> (Vec<f64>, Vec<[f64; 2]>) {
                     d.push([0.5 * a * (1.0 - eta * eta), -eta * (1.0 + a * xi)]);
                 }
             }
-            (n, d)
         }
     }
 }
@@ -190,16 +195,17 @@ pub fn mapped_points(
         SolidKind::Quad4 | SolidKind::Quad8 => &[(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)],
         _ => &[],
     };
+    let (mut corner_n, mut corner_dn) = (Vec::with_capacity(8), Vec::with_capacity(8));
     for &(xi, eta) in corners {
-        let (_, dn) = shape(kind, xi, eta);
-        let j = jacobian(&dn, coords);
+        shape_into(kind, xi, eta, &mut corner_n, &mut corner_dn);
+        let j = jacobian(&corner_dn, coords);
         let det = j[0][0] * j[1][1] - j[0][1] * j[1][0];
         if !(det > 1e-12 * size * size) {
             return Err(BadJacobian { det });
         }
     }
     for (xi, eta, w) in gauss_points(kind, rule) {
-        let (n, dn) = shape(kind, xi, eta);
+        let (n, mut dn) = shape(kind, xi, eta);
         let j = jacobian(&dn, coords);
         let det = j[0][0] * j[1][1] - j[0][1] * j[1][0];
         if !(det > 1e-12 * size * size) {
@@ -207,8 +213,11 @@ pub fn mapped_points(
         }
         // inverse of J = [[dx/dξ, dy/dξ], [dx/dη, dy/dη]]
         let inv = [[j[1][1] / det, -j[0][1] / det], [-j[1][0] / det, j[0][0] / det]];
-        let dn_dx =
-            dn.iter().map(|d| [inv[0][0] * d[0] + inv[0][1] * d[1], inv[1][0] * d[0] + inv[1][1] * d[1]]).collect();
+        // ∂N/∂x in place of ∂N/∂ξ
+        for d in dn.iter_mut() {
+            *d = [inv[0][0] * d[0] + inv[0][1] * d[1], inv[1][0] * d[0] + inv[1][1] * d[1]];
+        }
+        let dn_dx = dn;
         let mut x = [0.0; 2];
         for (ni, c) in n.iter().zip(coords) {
             x[0] += ni * c[0];

@@ -211,26 +211,41 @@ pub struct SparseColumns {
 
 impl SparseColumns {
     /// C of order `m` from its entries (row, column, value) in any order, repeated positions
-    /// added.
+    /// added (in the order they come). Bucketed by column, then each column's few entries sorted by
+    /// row: no sort of the whole list (an interface's C is rebuilt every iteration).
     pub fn from_entries(m: usize, entries: impl Iterator<Item = (usize, usize, f64)>) -> SparseColumns {
-        let mut list: Vec<(usize, usize, f64)> = entries.collect();
-        list.sort_unstable_by_key(|&(i, j, _)| (j, i));
-        let mut col_ptr = vec![0; m + 1];
-        let mut rows = Vec::with_capacity(list.len());
-        let mut values = Vec::with_capacity(list.len());
-        let mut last = None;
-        for (i, j, v) in list {
-            if last == Some((i, j)) {
-                *values.last_mut().expect("the entry before") += v;
-            } else {
-                rows.push(i);
-                values.push(v);
-                col_ptr[j + 1] += 1;
-                last = Some((i, j));
-            }
+        let list: Vec<(usize, usize, f64)> = entries.collect();
+        let mut start = vec![0usize; m + 1];
+        for &(_, j, _) in &list {
+            start[j + 1] += 1;
         }
         for j in 0..m {
-            col_ptr[j + 1] += col_ptr[j];
+            start[j + 1] += start[j];
+        }
+        let mut next = start.clone();
+        let mut bucketed = vec![(0usize, 0.0f64); list.len()];
+        for (i, j, v) in list {
+            bucketed[next[j]] = (i, v);
+            next[j] += 1;
+        }
+        let mut col_ptr = vec![0; m + 1];
+        let mut rows = Vec::with_capacity(bucketed.len());
+        let mut values = Vec::with_capacity(bucketed.len());
+        for j in 0..m {
+            let column = &mut bucketed[start[j]..start[j + 1]];
+            // stable: repeated positions are added in the order they came
+            column.sort_by_key(|&(i, _)| i);
+            let mut last = None;
+            for &(i, v) in column.iter() {
+                if last == Some(i) {
+                    *values.last_mut().expect("the entry before") += v;
+                } else {
+                    rows.push(i);
+                    values.push(v);
+                    last = Some(i);
+                }
+            }
+            col_ptr[j + 1] = rows.len();
         }
         SparseColumns { col_ptr, rows, values }
     }
