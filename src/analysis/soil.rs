@@ -62,7 +62,7 @@ impl SoilSetup {
 
 fn element_points(model: &Model, e: &crate::mesh::Solid, rule: Integration) -> Vec<MappedPoint> {
     let coords: Vec<[f64; 2]> = e.nodes.iter().map(|&n| model.mesh.position(n)).collect();
-    solid::mapped_points(e.kind, &coords, rule, model.mesh.geometry)
+    solid::mapped_points_of_checked(e.kind, &coords, rule, model.mesh.geometry)
         .expect("element Jacobians were checked when the model was read")
 }
 
@@ -501,9 +501,8 @@ pub struct ElementStress {
 /// The Gauss-point results of every present element: effective stress, strain since placement,
 /// pore pressure and yield state.
 pub fn gauss_results(model: &Model, field: &SoilField, u: &[f64]) -> Vec<ElementStress> {
-    let per_element: Vec<Vec<ElementStress>> =
-        (0..model.mesh.solids.len()).into_par_iter().map(|s| element_results(model, field, u, s)).collect();
-    per_element.into_iter().flatten().collect()
+    // (each worker's elements gathered in one list, and the lists joined once)
+    (0..model.mesh.solids.len()).into_par_iter().flat_map_iter(|s| element_results(model, field, u, s)).collect()
 }
 
 /// The Gauss-point results of soil element `s` (none when it is absent): an elastic element's

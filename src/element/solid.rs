@@ -189,10 +189,34 @@ pub fn mapped_points(
     rule: Integration,
     geometry: Geometry,
 ) -> Result<Vec<MappedPoint>, BadJacobian> {
+    map_points(kind, coords, rule, geometry, true)
+}
+
+/// [`mapped_points`] of an element whose corners were checked when the model was read (the
+/// Gauss points' Jacobians are still checked): a step's results map every element again.
+///
+/// # Errors
+/// As [`mapped_points`], but for the corners.
+pub fn mapped_points_of_checked(
+    kind: SolidKind,
+    coords: &[[f64; 2]],
+    rule: Integration,
+    geometry: Geometry,
+) -> Result<Vec<MappedPoint>, BadJacobian> {
+    map_points(kind, coords, rule, geometry, false)
+}
+
+fn map_points(
+    kind: SolidKind,
+    coords: &[[f64; 2]],
+    rule: Integration,
+    geometry: Geometry,
+    check_corners: bool,
+) -> Result<Vec<MappedPoint>, BadJacobian> {
     let size = coords.iter().fold(0.0f64, |m, c| m.max(c[0].abs()).max(c[1].abs())).max(1e-300);
     let mut points = Vec::new();
     let corners: &[(f64, f64)] = match kind {
-        SolidKind::Quad4 | SolidKind::Quad8 => &[(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)],
+        SolidKind::Quad4 | SolidKind::Quad8 if check_corners => &[(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)],
         _ => &[],
     };
     let (mut corner_n, mut corner_dn) = (Vec::with_capacity(8), Vec::with_capacity(8));
