@@ -27,7 +27,8 @@ pub fn dof(node: usize, d: Direction) -> usize {
 
 #[derive(Debug, Clone)]
 pub struct DofMap {
-    /// Equation number of each displacement DOF, `None` when held.
+    /// Equation number of each displacement DOF, `None` when held. Set by [`DofMap::new`] and not
+    /// changed after: `equation_key` is made from it there.
     pub equation: Vec<Option<usize>>,
     pub free_count: usize,
     pub multipliers: Vec<MultiplierRef>,
