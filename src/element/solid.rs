@@ -219,7 +219,8 @@ fn map_points(
         SolidKind::Quad4 | SolidKind::Quad8 if check_corners => &[(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)],
         _ => &[],
     };
-    let (mut corner_n, mut corner_dn) = (Vec::with_capacity(8), Vec::with_capacity(8));
+    // (buffers for the corners' shape functions, allocated only when there are corners to check)
+    let (mut corner_n, mut corner_dn) = (Vec::new(), Vec::new());
     for &(xi, eta) in corners {
         shape_into(kind, xi, eta, &mut corner_n, &mut corner_dn);
         let j = jacobian(&corner_dn, coords);
