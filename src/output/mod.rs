@@ -10,6 +10,8 @@
 //! the summary is rewritten after every step: completed steps are never lost.
 
 pub mod checkpoints;
+#[cfg(feature = "hdf5")]
+mod chunk_deflate;
 mod figures;
 mod folder;
 pub mod grids;
@@ -353,9 +355,21 @@ impl ResultWriter {
         self.out.join(format!("stage-{}-{}", record.stage_index + 1, name)).join(format!("step-{:03}", record.step))
     }
 
-    pub fn write_summary(&self) -> Result<(), Error> {
+    pub fn write_summary(&mut self) -> Result<(), Error> {
         let json = serde_json::to_vec_pretty(&self.summary).unwrap_or_default();
-        write_atomically(&self.out.join("summary.json"), &json)
+        self.replace_file("summary.json", json)
+    }
+
+    /// Replace the file `name` of the output folder with `bytes`, atomically and synced: on the
+    /// `results.h5` thread while a run has one (after what was handed to it, so that the file
+    /// never runs ahead of `results.xdmf`), here otherwise.
+    fn replace_file(&mut self, name: &str, bytes: Vec<u8>) -> Result<(), Error> {
+        let path = self.out.join(name);
+        #[cfg(feature = "hdf5")]
+        if let Some(h5) = self.h5.as_mut().filter(|h5| h5.running()) {
+            return h5.replace_file(path, bytes);
+        }
+        write_atomically(&path, &bytes)
     }
 
     /// Mark the run finished (or failed), write the summary a last time, and the report.
@@ -693,7 +707,8 @@ impl StepSink for ResultWriter {
             format!("displacement [{}]", u.length),
             format!("reaction [{}]", u.force_per_width),
         ];
-        write_atomically(&self.out.join("history.csv"), &csv_bytes(&header, self.history.iter().cloned()))?;
+        let csv = csv_bytes(&header, self.history.iter().cloned());
+        self.replace_file("history.csv", csv)?;
         self.profiles.push(StepProfile {
             label: format!("{} step {}", record.stage, record.step),
             reinforcements: self.reinforcements.iter().map(|(name, nodes)| profile(name, nodes, results)).collect(),

@@ -42,17 +42,20 @@
 //! `running`. The next run into the folder removes both files (`clear_earlier_run`). A run writes
 //! this file on a thread of its own (`hdf5_thread.rs`), in the same order.
 
+use super::chunk_deflate::ChunkDeflater;
 use super::folder::write_atomically;
 use super::grids::{GridLayout, StepGrids};
 use super::options::FieldPrecision;
 use super::xdmf::{self, Center, DataRef, Field, GridStep, KeptStep, NumberType, Topology, TopologyType};
 use crate::analysis::StepRecord;
 use crate::error::Error;
+use crate::linsol::native::hdf5_chunk;
 use crate::model::file::SolidKind;
 use crate::model::UnitLabels;
 use hdf5::file::{CacheDecreaseMode, CacheIncreaseMode, FileSpaceStrategy, FlashIncreaseMode, MetadataCacheConfig};
 use hdf5::types::VarLenUnicode;
 use hdf5::{Dataset, Group, H5Type, Location};
+use std::cell::RefCell;
 use std::path::{Path, PathBuf};
 
 /// The HDF5 file's name in the output folder, and its index's.
@@ -94,6 +97,8 @@ pub struct Hdf5Results {
     /// Deflate is available in the library: datasets are chunked and compressed.
     compress: bool,
     precision: FieldPrecision,
+    /// Shuffles and deflates the step fields' chunks (when `compress`).
+    deflater: RefCell<ChunkDeflater>,
     units: UnitLabels,
     steps: Vec<KeptStep>,
     soil_geometry: DataRef,
@@ -171,10 +176,11 @@ impl Hdf5Results {
             .create(&path)
             .map_err(&fail)?;
         let compress = hdf5::filters::deflate_available();
+        let deflater = RefCell::new(ChunkDeflater::new(DEFLATE_LEVEL).map_err(|e| fail(e.into()))?);
         text_attr(&file, "geoslip_version", env!("CARGO_PKG_VERSION")).map_err(&fail)?;
         text_attr(&file, "title", title).map_err(&fail)?;
         text_attr(&file, "xdmf", XDMF_NAME).map_err(&fail)?;
-        let writer = ArrayWriter { compress, precision };
+        let writer = ArrayWriter { compress, precision, deflater: &deflater };
         let mesh = new_group(&file, "mesh").map_err(&fail)?;
         new_group(&file, "steps").map_err(&fail)?;
 
@@ -240,6 +246,7 @@ impl Hdf5Results {
             file,
             compress,
             precision,
+            deflater,
             units: units.clone(),
             steps: Vec::new(),
             soil_geometry,
@@ -251,6 +258,11 @@ impl Hdf5Results {
         };
         results.commit()?;
         Ok(results)
+    }
+
+    /// A writer of datasets in this file's precision and compression.
+    fn writer(&self) -> ArrayWriter<'_> {
+        ArrayWriter { compress: self.compress, precision: self.precision, deflater: &self.deflater }
     }
 
     /// The file's path.
@@ -351,7 +363,7 @@ impl Hdf5Results {
         group.link_soft(&cells.topology.data.path, "topology")?;
         group.link_soft(&cells.element_id.path, "element_id")?;
         group.link_soft(&cells.material.path, "material")?;
-        let w = ArrayWriter { compress: self.compress, precision: self.precision };
+        let w = self.writer();
         let u = &self.units;
         let (length, stress) = (Some(u.length), Some(u.stress.as_str()));
         let fields = vec![
@@ -397,7 +409,7 @@ impl Hdf5Results {
         let group = self.file.group("mesh/soil")?;
         let k = self.soil_topologies.len() + 1;
         let present = &grids.soil.present;
-        let w = ArrayWriter { compress: self.compress, precision: self.precision };
+        let w = self.writer();
         let element_id = w.table(&group, &format!("element_id-{k}"), &grids.soil.element_id, 1, None, Chunks::ByRow)?;
         let material = w.table(&group, &format!("material-{k}"), &grids.soil.material, 1, None, Chunks::ByRow)?;
         let name = format!("topology-{k}");
@@ -429,7 +441,7 @@ impl Hdf5Results {
         let group = new_group(&step, "reinforcement")?;
         group.link_soft(&geometry.path, "geometry")?;
         group.link_soft(&topology.data.path, "topology")?;
-        let w = ArrayWriter { compress: self.compress, precision: self.precision };
+        let w = self.writer();
         let fields = vec![
             Field {
                 name: "displacement",
@@ -469,7 +481,7 @@ impl Hdf5Results {
                     Ok(group) => group,
                     Err(_) => new_group(&mesh, "interface")?,
                 };
-                let w = ArrayWriter { compress: self.compress, precision: self.precision };
+                let w = self.writer();
                 let x: Vec<f64> = g.x.iter().flat_map(|p| [p[0], p[1], 0.0]).collect();
                 let geometry =
                     w.table(&group, &format!("geometry-{k}"), &x, 3, Some(self.units.length), Chunks::ByRow)?;
@@ -485,7 +497,7 @@ impl Hdf5Results {
         group.new_attr_builder().with_data(faces.as_slice()).create("faces")?;
         group.link_soft(&geometry.path, "geometry")?;
         group.link_soft(&topology.data.path, "topology")?;
-        let w = ArrayWriter { compress: self.compress, precision: self.precision };
+        let w = self.writer();
         let u = &self.units;
         let (length, stress) = (Some(u.length), Some(u.stress.as_str()));
         let node = |name: &'static str, data: DataRef| Field { name, center: Center::Node, data };
@@ -537,12 +549,13 @@ enum Chunks {
 }
 
 /// Writes datasets, chunked and compressed when the library can.
-struct ArrayWriter {
+struct ArrayWriter<'a> {
     compress: bool,
     precision: FieldPrecision,
+    deflater: &'a RefCell<ChunkDeflater>,
 }
 
-impl ArrayWriter {
+impl ArrayWriter<'_> {
     /// `data` as a `rows × columns` dataset `name` of `group` (one-dimensional for one column),
     /// with its `unit` as an attribute, chunked as `chunks` says.
     fn table<T: Stored>(
@@ -580,8 +593,10 @@ impl ArrayWriter {
         Ok(DataRef { path: dataset.name(), dims, number: T::NUMBER })
     }
 
-    /// A step field: `data` as a `rows × columns` dataset in the run's [`FieldPrecision`], each
-    /// column chunked apart behind the shuffle filter when compressed.
+    /// A step field: `data` as a `rows × columns` dataset in the run's [`FieldPrecision`]. When
+    /// compressed, each column is cut into chunks of its own (as many as `CHUNK_VALUES` makes
+    /// needed, of equal rows), each filtered here and stored whole (`chunk_deflate.rs`), an
+    /// all-zero chunk not at all.
     fn field(
         &self,
         group: &Group,
@@ -590,14 +605,61 @@ impl ArrayWriter {
         columns: usize,
         unit: Option<&str>,
     ) -> hdf5::Result<DataRef> {
-        match self.precision {
-            FieldPrecision::Double => self.table(group, name, data, columns, unit, Chunks::ByColumn),
-            FieldPrecision::Single => {
-                // each value rounded to the nearest single-precision number
+        let compressed = self.compress && data.len() >= SMALL_VALUES;
+        match (self.precision, compressed) {
+            (FieldPrecision::Double, true) => {
+                self.chunked_field::<f64, 8>(group, name, data, columns, unit, f64::to_ne_bytes)
+            }
+            // each value rounded to the nearest single-precision number
+            (FieldPrecision::Single, true) => {
+                self.chunked_field::<f32, 4>(group, name, data, columns, unit, |v| (v as f32).to_ne_bytes())
+            }
+            (FieldPrecision::Double, false) => self.table(group, name, data, columns, unit, Chunks::ByColumn),
+            (FieldPrecision::Single, false) => {
                 let single: Vec<f32> = data.iter().map(|&v| v as f32).collect();
                 self.table(group, name, &single, columns, unit, Chunks::ByColumn)
             }
         }
+    }
+
+    /// `data` (`rows × columns`, `S` bytes a value in the dataset's type `T` as `bytes` gives
+    /// them) as a dataset behind the shuffle and deflate filters whose chunks are filtered here.
+    fn chunked_field<T: Stored + Default, const S: usize>(
+        &self,
+        group: &Group,
+        name: &str,
+        data: &[f64],
+        columns: usize,
+        unit: Option<&str>,
+        bytes: impl Fn(f64) -> [u8; S],
+    ) -> hdf5::Result<DataRef> {
+        let columns = columns.max(1);
+        let rows = data.len() / columns;
+        let chunk_rows = rows.div_ceil(rows.div_ceil(CHUNK_VALUES).max(1)).max(1);
+        let (dims, chunk) =
+            if columns == 1 { (vec![rows], vec![chunk_rows]) } else { (vec![rows, columns], vec![chunk_rows, 1]) };
+        let dataset = group
+            .new_dataset::<T>()
+            .shape(dims.clone())
+            .chunk(chunk)
+            .shuffle()
+            .deflate(DEFLATE_LEVEL)
+            .fill_value(T::default())
+            .create(name)?;
+        let mut deflater = self.deflater.borrow_mut();
+        for column in 0..columns {
+            for start in (0..rows).step_by(chunk_rows) {
+                let end = (start + chunk_rows).min(rows);
+                let values = (start..end).map(|row| bytes(data[row * columns + column]));
+                let Some(deflated) = deflater.deflate(values, chunk_rows)? else { continue };
+                let offset = if columns == 1 { vec![start as u64] } else { vec![start as u64, column as u64] };
+                hdf5_chunk::write_chunk(&dataset, &offset, deflated)?;
+            }
+        }
+        if let Some(u) = unit {
+            text_attr(&dataset, "unit", u)?;
+        }
+        Ok(DataRef { path: dataset.name(), dims, number: T::NUMBER })
     }
 
     /// An empty one-dimensional dataset that grows by one entry a step.
@@ -628,4 +690,61 @@ fn number_attr<T: H5Type>(location: &Location, name: &str, value: T) -> hdf5::Re
 fn h5_error(path: &Path) -> impl Fn(hdf5::Error) -> Error {
     let path = path.to_path_buf();
     move |e| Error::Write { path: path.clone(), source: std::io::Error::other(format!("HDF5: {e}")) }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A field of several chunks a column, the last one short, with a column of zeros, written by
+    /// `ArrayWriter::field` (chunks shuffled and deflated by geoslip, stored directly) and read
+    /// back through libhdf5's own filter pipeline (its shuffle and its zlib inflate).
+    #[test]
+    fn a_field_of_many_chunks_reads_back_through_hdf5s_filters_value_for_value() {
+        if !hdf5::filters::deflate_available() {
+            return;
+        }
+        let dir = tempfile::tempdir().unwrap();
+        let file = hdf5::File::create(dir.path().join("field.h5")).unwrap();
+        let deflater = RefCell::new(ChunkDeflater::new(DEFLATE_LEVEL).unwrap());
+        let rows = 2 * CHUNK_VALUES + 1001;
+        // x: smooth with noise in the low bits; y: zeros, one negative zero; z: zeros
+        let data: Vec<f64> = (0..rows)
+            .flat_map(|i| {
+                let x = (i as f64 * 1e-3).sin() * 1e-2 + (i as f64 * 7.77).fract() * 1e-9;
+                let y = if i == 5 { -0.0 } else { 0.0 };
+                [x, y, 0.0]
+            })
+            .collect();
+        for precision in [FieldPrecision::Single, FieldPrecision::Double] {
+            let w = ArrayWriter { compress: true, precision, deflater: &deflater };
+            let name = format!("{precision:?}");
+            let data_ref = w.field(&file, &name, &data, 3, Some("m")).unwrap();
+            assert_eq!(data_ref.dims, vec![rows, 3]);
+            let dataset = file.dataset(&name).unwrap();
+            let chunk = dataset.chunk().unwrap();
+            assert_eq!(chunk[1], 1, "a column a chunk");
+            assert!(chunk[0] <= CHUNK_VALUES && rows.div_ceil(chunk[0]) == 3, "{chunk:?}");
+            // x's three chunks and y's first (its negative zero); the other zero chunks not stored
+            assert_eq!(dataset.num_chunks(), Some(4));
+            let filters = dataset.filters();
+            assert!(filters.iter().any(|f| matches!(f, hdf5::filters::Filter::Shuffle)), "{filters:?}");
+            assert!(filters.iter().any(|f| matches!(f, hdf5::filters::Filter::Deflate(_))), "{filters:?}");
+            match precision {
+                FieldPrecision::Single => {
+                    let back: Vec<f32> = dataset.read_raw().unwrap();
+                    assert_eq!(back.len(), data.len());
+                    for (i, (a, b)) in back.iter().zip(&data).enumerate() {
+                        assert!(a.to_bits() == (*b as f32).to_bits(), "[{}][{}]: {a} against {b}", i / 3, i % 3);
+                    }
+                }
+                FieldPrecision::Double => {
+                    let back: Vec<f64> = dataset.read_raw().unwrap();
+                    for (i, (a, b)) in back.iter().zip(&data).enumerate() {
+                        assert!(a.to_bits() == b.to_bits(), "[{}][{}]: {a} against {b}", i / 3, i % 3);
+                    }
+                }
+            }
+        }
+    }
 }

@@ -1,4 +1,5 @@
-//! The native backends and the C heap they share, and the only unsafe code in geoslip.
+//! The native backends, the C heap they share, and HDF5's direct chunk write: the only unsafe code
+//! in geoslip.
 //!
 //! Each backend has one struct that owns its native handle: created (and null-checked) in `new`,
 //! freed in `Drop`. No raw pointer leaves this module. MUMPS calls hold `geoslip_sys::MUMPS_LOCK`.
@@ -6,6 +7,8 @@
 
 #[cfg(all(geoslip_mumps, feature = "mpi"))]
 pub mod cluster;
+#[cfg(feature = "hdf5")]
+pub mod hdf5_chunk;
 pub mod heap;
 #[cfg(geoslip_mumps)]
 pub mod mumps;
