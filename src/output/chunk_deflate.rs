@@ -21,6 +21,8 @@ const STORED_BLOCK: usize = 65_535;
 /// Shuffles and deflates chunks, reusing its buffers from one chunk to the next.
 pub struct ChunkDeflater {
     compressor: Compressor,
+    /// The chunk's values, as they come.
+    values: Vec<u8>,
     shuffled: Vec<u8>,
     deflated: Vec<u8>,
 }
@@ -32,7 +34,12 @@ impl ChunkDeflater {
     /// A message when libdeflate has no such level.
     pub fn new(level: u8) -> Result<Self, String> {
         let level = CompressionLvl::new(i32::from(level)).map_err(|e| format!("deflate level {level}: {e:?}"))?;
-        Ok(ChunkDeflater { compressor: Compressor::new(level), shuffled: Vec::new(), deflated: Vec::new() })
+        Ok(ChunkDeflater {
+            compressor: Compressor::new(level),
+            values: Vec::new(),
+            shuffled: Vec::new(),
+            deflated: Vec::new(),
+        })
     }
 
     /// The chunk of `len` values whose first ones are `values` (each its `S` bytes as the
@@ -48,26 +55,25 @@ impl ChunkDeflater {
         values: impl Iterator<Item = [u8; S]>,
         len: usize,
     ) -> Result<Option<&[u8]>, String> {
+        self.values.clear();
+        self.values.reserve(len * S);
+        for bytes in values {
+            self.values.extend_from_slice(&bytes);
+        }
+        if self.values.len() > len * S {
+            return Err(format!("more than {len} values for a chunk of {len}"));
+        }
+        // (or-ed together without an early exit, which the compiler vectorises)
+        if self.values.iter().fold(0, |any, &b| any | b) == 0 {
+            return Ok(None);
+        }
+        // plane by plane: byte j of every value, the padding left zero
         self.shuffled.clear();
         self.shuffled.resize(len * S, 0);
-        let mut nonzero = false;
-        if len > 0 {
-            // the S byte planes, each `len` long
-            let mut planes: Vec<&mut [u8]> = self.shuffled.chunks_exact_mut(len).collect();
-            for (i, bytes) in values.enumerate() {
-                if i >= len {
-                    return Err(format!("more than {len} values for a chunk of {len}"));
-                }
-                nonzero |= bytes != [0; S];
-                for (plane, b) in planes.iter_mut().zip(bytes) {
-                    plane[i] = b;
-                }
+        for (j, plane) in self.shuffled.chunks_exact_mut(len).enumerate() {
+            for (to, value) in plane.iter_mut().zip(self.values.chunks_exact(S)) {
+                *to = value[j];
             }
-        } else if values.count() > 0 {
-            return Err("values for a chunk of 0".into());
-        }
-        if !nonzero {
-            return Ok(None);
         }
         let stored = len * self.shuffled.chunks_exact(len).take_while(|plane| entropy(plane) > STORED_ENTROPY).count();
         let (raw, compressed) = self.shuffled.split_at(stored);
@@ -106,16 +112,24 @@ impl ChunkDeflater {
 
 /// The order-0 entropy of `bytes` in bits a byte: 8 when every byte value is equally frequent.
 fn entropy(bytes: &[u8]) -> f64 {
-    let mut counts = [0usize; 256];
-    for &b in bytes {
-        counts[usize::from(b)] += 1;
+    // four tables counted in turn, so that a run of one byte value does not wait on its own
+    // last count
+    let mut counts = [[0u32; 256]; 4];
+    let mut quads = bytes.chunks_exact(4);
+    for q in &mut quads {
+        for (table, &b) in counts.iter_mut().zip(q) {
+            table[usize::from(b)] += 1;
+        }
+    }
+    for &b in quads.remainder() {
+        counts[0][usize::from(b)] += 1;
     }
     let n = bytes.len() as f64;
-    counts
-        .iter()
-        .filter(|&&c| c > 0)
-        .map(|&c| {
-            let p = c as f64 / n;
+    (0..256)
+        .map(|v| counts.iter().map(|table| table[v]).sum::<u32>())
+        .filter(|&c| c > 0)
+        .map(|c| {
+            let p = f64::from(c) / n;
             -p * p.log2()
         })
         .sum()
