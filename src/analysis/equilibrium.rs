@@ -40,6 +40,9 @@ pub struct IncrementReport {
     pub state_changes: Vec<String>,
     /// The soil's Gauss-point states at equilibrium.
     pub soil: SoilTrial,
+    /// The soil's and the bars' part of the internal force at equilibrium (the closing check's,
+    /// `assembly::soil_and_bar_force_and_floor`), which the step's reactions are taken from.
+    pub element_force: Vec<f64>,
 }
 
 /// What one increment's iterations carry from one to the next.
@@ -665,6 +668,7 @@ fn check(
             springs,
             state_changes: std::mem::take(&mut it.state_changes),
             soil: soil_trial,
+            element_force,
         }));
     }
     if iteration == settings.max_iterations {

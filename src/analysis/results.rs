@@ -4,8 +4,7 @@
 pub use super::soil::ElementStress;
 use super::springs::SpringResult;
 use super::state::State;
-use crate::assembly::{internal_force, ElementMatrices, SoilView};
-use crate::element::soil_state::SoilTrial;
+use crate::assembly::{add_spring_forces, ElementMatrices};
 use crate::interface::rows::{constraint_force, row_dofs, InterfaceRows};
 use crate::interface::ShearLaw;
 use crate::model::Model;
@@ -73,6 +72,9 @@ pub struct StepResults {
 }
 
 impl StepResults {
+    /// The step's results at the equilibrium `state`, whose soil and bars exert `element_force`
+    /// (`assembly::soil_and_bar_force`, found by the increment's closing check for the same
+    /// displacements) and whose springs are `springs`.
     #[allow(clippy::too_many_arguments)]
     pub fn compute(
         model: &Model,
@@ -80,14 +82,14 @@ impl StepResults {
         rows: &InterfaceRows,
         springs: &[SpringResult],
         state: &State,
-        soil: &SoilTrial,
+        element_force: &[f64],
         held: &[bool],
     ) -> Self {
         let mesh = &model.mesh;
         let n_dof = state.u.len();
-        let view = SoilView { field: &state.soil, trial: soil };
         let taus: Vec<f64> = springs.iter().map(|r| r.tau).collect();
-        let f_int = internal_force(elements, view, rows, &taus, &state.bars, &state.u);
+        let mut f_int = element_force.to_vec();
+        add_spring_forces(&mut f_int, rows, &taus);
         let f_c = constraint_force(rows, &state.lambda, n_dof);
         let reaction_vector: Vec<f64> =
             (0..n_dof).map(|d| if held[d] { f_int[d] + f_c[d] - state.f_ext[d] } else { 0.0 }).collect();

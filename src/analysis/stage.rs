@@ -267,7 +267,8 @@ pub fn complete_increment(
     soil::commit(&mut state.soil, &report.soil);
     let output_started = Instant::now();
     let rows = InterfaceRows::new(&model.mesh, &state.interfaces, &stage.dofs.multipliers);
-    let results = StepResults::compute(model, &cx.elements, &rows, &report.springs, state, &report.soil, &cx.held);
+    let results =
+        StepResults::compute(model, &cx.elements, &rows, &report.springs, state, &report.element_force, &cx.held);
     let balance = reinforcement_balance(model, &results, state);
     for b in balance.iter().filter(|b| !(b.mismatch <= BALANCE_WARNING)) {
         let warning = format!(

@@ -30,16 +30,21 @@ pub struct ElementMatrices {
 
 /// Sum per-DOF contributions of element blocks over `n` DOFs, in parallel: the blocks are cut into a
 /// fixed number of runs (not one per thread), each summed into a vector of its own, and the vectors
-/// are added in order, so that the result does not depend on the number of threads.
+/// are added in order, so that the result does not depend on the number of threads. The runs' length
+/// is set by the first `leading` blocks alone (the blocks after them fall into runs of the same
+/// length): a sum over those blocks cuts them where a sum over them and more blocks does, so that
+/// what the leading blocks add up to is the same to the last bit in both.
 fn par_block_sum(
     blocks: &[(Vec<usize>, DMatrix<f64>)],
+    leading: usize,
     n: usize,
     each: impl Fn(usize, &[usize], &DMatrix<f64>, &mut [f64]) + Sync,
 ) -> Vec<f64> {
     use rayon::prelude::*;
     const RUNS: usize = 4;
     const SEQUENTIAL_BELOW: usize = 4096;
-    let run = if blocks.len() < SEQUENTIAL_BELOW { blocks.len().max(1) } else { blocks.len().div_ceil(RUNS) };
+    let leading = leading.min(blocks.len());
+    let run = if leading < SEQUENTIAL_BELOW { leading.max(1) } else { leading.div_ceil(RUNS) };
     let parts: Vec<Vec<f64>> = blocks
         .par_chunks(run)
         .enumerate()
@@ -494,7 +499,9 @@ fn forces_and_magnitudes(
     let blocks = if magnitudes { &elements.blocks[..] } else { &elements.blocks[..first_bar] };
     // one sum of 2n: the force in the first n entries, the magnitudes in the last n
     let width = if magnitudes { 2 * n } else { n };
-    let mut both = par_block_sum(blocks, width, |s, dl, k, f| {
+    // cut where the soil's blocks alone are cut: the force is the same to the last bit with or
+    // without the magnitudes (the closing check's force is the one a step's results report)
+    let mut both = par_block_sum(blocks, first_bar, width, |s, dl, k, f| {
         if s >= first_bar {
             // a bar: its magnitudes here, its force from its state (`add_bar_forces`)
             for (a, &da) in dl.iter().enumerate() {
