@@ -3,8 +3,9 @@
 //! instead of adding to them.
 //!
 //! The run's thread hands each step's grids, its history entry, a commit, and the new
-//! `history.csv` and `summary.json` to the writer thread, which does them in order (see `results_h5.rs`: the index `results.xdmf` is rewritten only after
-//! the HDF5 file is flushed, so it lists complete steps only, whatever the moment the run is killed).
+//! `history.csv` and `summary.json` to the writer thread, which does them in order (see
+//! `results_h5.rs`: the index `results.xdmf` is rewritten only after the HDF5 file is flushed, so
+//! it lists complete steps only, whatever the moment the run is killed; the two files follow it).
 //! At most two steps wait at once: a run never holds more than a few steps' grids in memory. An
 //! error on the writer thread stops it; the run's thread gets the error at its next hand-over, or
 //! when it finishes.
