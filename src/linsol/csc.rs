@@ -33,11 +33,29 @@ impl CscPattern {
     pub fn from_triplets(n: usize, rows: &[u32], cols: &[u32]) -> (CscPattern, Vec<u32>) {
         assert_eq!(rows.len(), cols.len());
         assert!(rows.iter().chain(cols).all(|&i| (i as usize) < n), "triplet index out of range");
-        // Sort by column, then by row inside each column; equal keys share one entry. (A list's
-        // length fits 32 bits: `Triplets::push` holds it there.)
+        // Order by column, then by row inside each column; equal keys share one entry. (A list's
+        // length fits 32 bits: `Triplets::push` holds it there.) The triplets are bucketed by
+        // column first (a counting sort) and each column's few sorted by row: a sort of the
+        // whole list by its indirect key took most of a 10⁵-unknown soil's assembly.
         let key = |k: u32| (cols[k as usize], rows[k as usize]);
-        let mut order: Vec<u32> = (0..rows.len() as u32).collect();
-        order.sort_unstable_by_key(|&k| key(k));
+        let mut start = vec![0usize; n + 1];
+        for &c in cols {
+            start[c as usize + 1] += 1;
+        }
+        for j in 0..n {
+            start[j + 1] += start[j];
+        }
+        let mut order = vec![0u32; rows.len()];
+        let mut next = start[..n].to_vec();
+        for (k, &c) in cols.iter().enumerate() {
+            order[next[c as usize]] = k as u32;
+            next[c as usize] += 1;
+        }
+        drop(next);
+        for j in 0..n {
+            order[start[j]..start[j + 1]].sort_unstable_by_key(|&k| rows[k as usize]);
+        }
+        drop(start);
         let distinct = order.windows(2).filter(|w| key(w[0]) != key(w[1])).count() + usize::from(!order.is_empty());
         let mut col_ptr = vec![0usize; n + 1];
         let mut row_idx = Vec::with_capacity(distinct);
@@ -304,6 +322,40 @@ mod tests {
         assert!(!new);
         assert_eq!(cache.builds, 1);
         assert_eq!(b.to_dense(), vec![vec![2.0, 0.0], vec![1.0, 1.0]]);
+    }
+
+    /// A scrambled list with repeated positions and empty columns against the definition: the
+    /// distinct (column, row) pairs in order, and each triplet mapped to its own pair's entry.
+    #[test]
+    fn a_scrambled_list_gives_each_distinct_position_once_in_order() {
+        let n = 37;
+        let mut x = 0x9e37_79b9_7f4a_7c15u64;
+        let mut draw = |m: u64| {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            (x % m) as u32
+        };
+        // columns 5 and 6 left empty
+        let (rows, cols): (Vec<u32>, Vec<u32>) = (0..2000)
+            .map(|_| {
+                let c = draw(n as u64 - 2);
+                (draw(n as u64), if c >= 5 { c + 2 } else { c })
+            })
+            .unzip();
+        let (pattern, map) = CscPattern::from_triplets(n, &rows, &cols);
+        let distinct: std::collections::BTreeSet<(u32, u32)> = cols.iter().copied().zip(rows.iter().copied()).collect();
+        assert_eq!(pattern.nnz(), distinct.len());
+        let stored: Vec<(u32, u32)> = (0..n)
+            .flat_map(|j| {
+                let pattern = &pattern;
+                (pattern.col_ptr()[j]..pattern.col_ptr()[j + 1]).map(move |e| (j as u32, pattern.row_idx()[e] as u32))
+            })
+            .collect();
+        assert_eq!(stored, distinct.into_iter().collect::<Vec<_>>());
+        for (k, &e) in map.iter().enumerate() {
+            assert_eq!(stored[e as usize], (cols[k], rows[k]), "triplet {k}");
+        }
     }
 
     #[test]
