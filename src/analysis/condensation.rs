@@ -56,8 +56,9 @@ pub fn kept_equations(elements: &ElementMatrices, dofs: &DofMap, state: &State) 
     }
     let mut held_by_soil = vec![false; dofs.equation.len()];
     let first_bar = elements.bars.first().map_or(elements.blocks.len(), |b| b.block);
+    let present = state.soil.active_words();
     for (b, (dl, _)) in elements.blocks[..first_bar].iter().enumerate() {
-        if state.soil.elements[b].active {
+        if present[b / 64] >> (b % 64) & 1 == 1 {
             for &d in dl {
                 held_by_soil[d] = true;
             }
@@ -114,7 +115,8 @@ pub fn solve(
     }
     stats.condensed_unknowns = Some(kept.len());
     let soil = || system.assemble_soil();
-    match solver.solve(stats, dofs.size(), &kept, soil_key, &soil, key, &change, rhs) {
+    let soil_times = |x: &[f64]| system.soil_times(x);
+    match solver.solve(stats, dofs.size(), &kept, soil_key, &soil, &soil_times, key, &change, rhs) {
         Ok((x, residual)) => Condensed::Solved(x, residual),
         // the dense interface system, or a soil interior that the soil alone cannot hold: the full
         // system's recoveries and diagnosis take over
@@ -273,9 +275,8 @@ pub fn solve_deferred(
     key: u64,
     rhs: &[f64],
 ) -> Option<(Vec<f64>, f64)> {
-    let t = std::time::Instant::now();
-    let change = system.assemble_reinforcement_and_interface();
-    stats.assembly_seconds += t.elapsed().as_secs_f64();
+    // (the interface's entries assembled only when `key` names a matrix not factorised yet)
+    let change = || system.assemble_reinforcement_and_interface();
     let rhs_kept: Vec<f64> = deferred.kept.iter().map(|&e| rhs[e]).collect();
     let solved = condensed.solve_kept(stats, deferred.soil_key, key, &change, &rhs_kept).ok()?;
     let mut x = vec![0.0; rhs.len()];

@@ -99,16 +99,13 @@ fn add_bt_sigma(p: &MappedPoint, s: [f64; 4], f: &mut [f64]) {
 /// The field at the start of a run: every element present but those a stage places later.
 pub fn initial_field(model: &Model) -> SoilField {
     let absent = model.initially_absent();
-    SoilField {
-        elements: absent.iter().map(|&a| ElementState { active: !a, ..ElementState::default() }).collect(),
-        water: None,
-    }
+    SoilField::new(absent.iter().map(|&a| ElementState { active: !a, ..ElementState::default() }).collect())
 }
 
 /// Nodes of present soil elements.
 pub fn present_nodes(model: &Model, field: &SoilField) -> Vec<bool> {
     let mut present = vec![false; model.mesh.nodes.len()];
-    for (e, s) in model.mesh.solids.iter().zip(&field.elements) {
+    for (e, s) in model.mesh.solids.iter().zip(field.elements()) {
         if s.active {
             for &n in &e.nodes {
                 present[n] = true;
@@ -161,7 +158,7 @@ pub fn activate(
         }
     }
     for &s in solids {
-        let state = &mut field.elements[s];
+        let state = &mut field.elements_mut()[s];
         if state.active {
             continue;
         }
@@ -179,7 +176,7 @@ pub fn activate(
 /// Remove soil elements (excavation).
 pub fn deactivate(field: &mut SoilField, solids: &[usize]) {
     for &s in solids {
-        field.elements[s] = ElementState::default();
+        field.elements_mut()[s] = ElementState::default();
     }
 }
 
@@ -188,7 +185,7 @@ pub fn set_water(model: &Model, setup: &SoilSetup, field: &mut SoilField, water:
     let mesh = &model.mesh;
     field.water = water;
     let water = field.water.clone();
-    field.elements.par_iter_mut().enumerate().for_each(|(s, state)| {
+    field.elements_mut().par_iter_mut().enumerate().for_each(|(s, state)| {
         state.pore.clear();
         state.pore_force = None;
         let (Some(w), true) = (&water, state.active) else { return };
@@ -226,7 +223,7 @@ pub fn water_on_boundary(model: &Model, field: &SoilField, interfaces: &[crate::
     }
     let mut count: std::collections::HashMap<(usize, usize), usize> = std::collections::HashMap::new();
     let key = |a: usize, b: usize| (a.min(b), a.max(b));
-    for (e, st) in mesh.solids.iter().zip(&field.elements) {
+    for (e, st) in mesh.solids.iter().zip(field.elements()) {
         if st.active {
             for side in e.kind.sides() {
                 *count.entry(key(e.nodes[side[0]], e.nodes[side[1]])).or_default() += 1;
@@ -235,7 +232,7 @@ pub fn water_on_boundary(model: &Model, field: &SoilField, interfaces: &[crate::
     }
     let g = (0.6f64).sqrt();
     let rule = [(-g, 5.0 / 9.0), (0.0, 8.0 / 9.0), (g, 5.0 / 9.0)];
-    for (e, st) in mesh.solids.iter().zip(&field.elements) {
+    for (e, st) in mesh.solids.iter().zip(field.elements()) {
         if !st.active {
             continue;
         }
@@ -287,7 +284,7 @@ pub fn weight(model: &Model, setup: &SoilSetup, field: &SoilField, factor: f64) 
         return f;
     }
     for (s, e) in mesh.solids.iter().enumerate() {
-        if !field.elements[s].active {
+        if !field.elements()[s].active {
             continue;
         }
         for p in element_points(model, e, setup.rule) {
@@ -310,7 +307,7 @@ pub fn set_k0(model: &Model, setup: &SoilSetup, field: &mut SoilField, u: &[f64]
     let polygons: Vec<Option<Vec<[f64; 2]>>> = mesh
         .solids
         .iter()
-        .zip(&field.elements)
+        .zip(field.elements())
         .map(|(e, st)| st.active.then(|| e.nodes[..e.kind.corner_count()].iter().map(|&n| mesh.position(n)).collect()))
         .collect();
     let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
@@ -361,7 +358,7 @@ pub fn set_k0(model: &Model, setup: &SoilSetup, field: &mut SoilField, u: &[f64]
     let stresses: Vec<Option<(Vec<PointState>, Vec<f64>)>> = (0..mesh.solids.len())
         .into_par_iter()
         .map(|s| {
-            if !field.elements[s].active {
+            if !field.elements()[s].active {
                 return None;
             }
             let points = element_points(model, &mesh.solids[s], setup.rule);
@@ -382,7 +379,7 @@ pub fn set_k0(model: &Model, setup: &SoilSetup, field: &mut SoilField, u: &[f64]
         .collect();
     for (s, st) in stresses.into_iter().enumerate() {
         if let Some((points, force)) = st {
-            let e = &mut field.elements[s];
+            let e = &mut field.elements_mut()[s];
             e.points = points;
             e.placed = Some(element_u(&setup.dofs[s], u));
             e.reference_force = if setup.is_plastic(s) { None } else { Some(force) };
@@ -422,12 +419,12 @@ pub fn evaluate(setup: &SoilSetup, field: &SoilField, u: &[f64], u_committed: &[
     let results: Vec<ElementTrial> = (0..n)
         .into_par_iter()
         .map(|s| {
-            let (Some(law), Some(points), true) = (&setup.laws[s], &setup.points[s], field.elements[s].active) else {
+            let (Some(law), Some(points), true) = (&setup.laws[s], &setup.points[s], field.elements()[s].active) else {
                 return (None, None, None, 0);
             };
             let dofs = &setup.dofs[s];
             let du: Vec<f64> = dofs.iter().map(|&d| u[d] - u_committed[d]).collect();
-            let committed = &field.elements[s].points;
+            let committed = &field.elements()[s].points;
             let mut force = vec![0.0; dofs.len()];
             let mut k = DMatrix::zeros(dofs.len(), dofs.len());
             let mut states = Vec::with_capacity(points.len());
@@ -474,7 +471,7 @@ pub fn evaluate(setup: &SoilSetup, field: &SoilField, u: &[f64], u_committed: &[
 
 /// Keep the converged Gauss-point states.
 pub fn commit(field: &mut SoilField, trial: &SoilTrial) {
-    for (state, points) in field.elements.iter_mut().zip(&trial.points) {
+    for (state, points) in field.elements_mut().iter_mut().zip(&trial.points) {
         if let Some(points) = points {
             state.points = points.clone();
         }
@@ -508,7 +505,7 @@ pub fn gauss_results(model: &Model, field: &SoilField, u: &[f64]) -> Vec<Element
 /// The Gauss-point results of soil element `s` (none when it is absent): an elastic element's
 /// stress from the displacements `u`, a Mohr–Coulomb element's as last committed.
 fn element_results(model: &Model, field: &SoilField, u: &[f64], s: usize) -> Vec<ElementStress> {
-    let state = &field.elements[s];
+    let state = &field.elements()[s];
     if !state.active {
         return Vec::new();
     }

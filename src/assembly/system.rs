@@ -201,6 +201,31 @@ impl SystemInputs<'_> {
         t
     }
 
+    /// [`SystemInputs::assemble_soil`]'s matrix times `x` (over the equations), from the element
+    /// matrices, without assembling it.
+    pub fn soil_times(&self, x: &[f64]) -> Vec<f64> {
+        let SystemInputs { elements, soil, dofs, .. } = *self;
+        let eq = |d: usize| dofs.equation[d];
+        let first_bar = elements.bars.first().map_or(elements.blocks.len(), |bar| bar.block);
+        par_block_sum(&elements.blocks[..first_bar], first_bar, x.len(), |b, dl, k, y| {
+            if !soil.field.elements()[b].active {
+                return;
+            }
+            // a yielding element's tangent, as `add_blocks` takes it
+            let k = soil.trial.tangents.get(b).and_then(|t| t.as_ref()).unwrap_or(k);
+            for (a, &da) in dl.iter().enumerate() {
+                let Some(i) = eq(da) else { continue };
+                let mut sum = 0.0;
+                for (c, &dc) in dl.iter().enumerate() {
+                    if let Some(j) = eq(dc) {
+                        sum += k[(a, c)] * x[j];
+                    }
+                }
+                y[i] += sum;
+            }
+        })
+    }
+
     /// Everything but the soil elements: the bars, the springs and the constraint rows. With
     /// [`SystemInputs::assemble_soil`] it sums to [`SystemInputs::assemble`].
     pub fn assemble_reinforcement_and_interface(&self) -> Triplets {
@@ -229,7 +254,7 @@ impl SystemInputs<'_> {
             Blocks::Soil => b < first_bar,
             Blocks::Bars => b >= first_bar,
         };
-        wanted && (b >= first_bar || self.soil.field.elements[b].active)
+        wanted && (b >= first_bar || self.soil.field.elements()[b].active)
     }
 
     /// The entries `add_blocks` pushes for `which`.
@@ -418,13 +443,8 @@ impl SystemInputs<'_> {
 /// `h`.
 fn hash_soil(soil: SoilView<'_>, h: &mut impl std::hash::Hasher) {
     use std::hash::Hash;
-    let mut word = 0u64;
-    for (e, (state, tangent)) in soil.field.elements.iter().zip(&soil.trial.tangents).enumerate() {
-        word |= u64::from(state.active) << (e % 64);
-        if e % 64 == 63 {
-            word.hash(h);
-            word = 0;
-        }
+    soil.field.active_words().hash(h);
+    for (e, tangent) in soil.trial.tangents.iter().enumerate() {
         if let Some(k) = tangent {
             e.hash(h);
             for v in k.iter() {
@@ -432,7 +452,6 @@ fn hash_soil(soil: SoilView<'_>, h: &mut impl std::hash::Hasher) {
             }
         }
     }
-    word.hash(h);
 }
 
 /// Internal forces over all displacement DOFs: the elements' K_e·u_e plus the springs' τ·ℓ·row (the
@@ -511,7 +530,7 @@ fn forces_and_magnitudes(
             }
             return;
         }
-        let state = &soil.field.elements[s];
+        let state = &soil.field.elements()[s];
         if !state.active {
             return;
         }

@@ -38,11 +38,47 @@ pub struct ElementState {
     pub pore_force: Option<Vec<f64>>,
 }
 
-/// Every soil element's state, and the water table in force.
+/// Every soil element's state, and the water table in force. The elements are read through
+/// [`elements`](Self::elements) and changed through [`elements_mut`](Self::elements_mut), which
+/// forgets the packed presence flags ([`active_words`](Self::active_words)) until they are next
+/// asked for: no change to an element can leave them stale.
 #[derive(Debug, Clone, Default, serde::Serialize, serde::Deserialize)]
 pub struct SoilField {
-    pub elements: Vec<ElementState>,
+    elements: Vec<ElementState>,
     pub water: Option<WaterTable>,
+    /// Each element's `active` flag, 64 to a word; made when first asked for after a change.
+    #[serde(skip)]
+    active_words: std::sync::OnceLock<Vec<u64>>,
+}
+
+impl SoilField {
+    /// A field of `elements`, with no water table.
+    pub fn new(elements: Vec<ElementState>) -> Self {
+        SoilField { elements, water: None, active_words: std::sync::OnceLock::new() }
+    }
+
+    /// Every soil element's state, in the mesh's order of solids.
+    pub fn elements(&self) -> &[ElementState] {
+        &self.elements
+    }
+
+    /// Every soil element's state, to change.
+    pub fn elements_mut(&mut self) -> &mut [ElementState] {
+        self.active_words = std::sync::OnceLock::new();
+        &mut self.elements
+    }
+
+    /// Each element's `active` flag, 64 to a word: element `e` is bit `e % 64` of word `e / 64`.
+    /// Read by the matrix's fingerprint at every iteration: 1/128 of the elements' states.
+    pub fn active_words(&self) -> &[u64] {
+        self.active_words.get_or_init(|| {
+            let mut words = vec![0u64; self.elements.len().div_ceil(64)];
+            for (e, state) in self.elements.iter().enumerate() {
+                words[e / 64] |= u64::from(state.active) << (e % 64);
+            }
+            words
+        })
+    }
 }
 
 /// A phreatic line and the unit weight of water: hydrostatic pore pressure p = γw·(h(x) − y) below
@@ -111,7 +147,7 @@ pub fn element_force(
     u_e: &[f64],
     f: &mut [f64],
 ) -> bool {
-    let state = &field.elements[s];
+    let state = &field.elements()[s];
     if !state.active {
         return false;
     }
