@@ -38,20 +38,7 @@ impl CscPattern {
         // column first (a counting sort) and each column's few sorted by row: a sort of the
         // whole list by its indirect key took most of a 10⁵-unknown soil's assembly.
         let key = |k: u32| (cols[k as usize], rows[k as usize]);
-        let mut start = vec![0usize; n + 1];
-        for &c in cols {
-            start[c as usize + 1] += 1;
-        }
-        for j in 0..n {
-            start[j + 1] += start[j];
-        }
-        let mut order = vec![0u32; rows.len()];
-        let mut next = start[..n].to_vec();
-        for (k, &c) in cols.iter().enumerate() {
-            order[next[c as usize]] = k as u32;
-            next[c as usize] += 1;
-        }
-        drop(next);
+        let (mut order, start) = bucket_by_column(n, rows.len(), |k| cols[k] as usize, |k| k as u32);
         for j in 0..n {
             order[start[j]..start[j + 1]].sort_unstable_by_key(|&k| rows[k as usize]);
         }
@@ -265,6 +252,33 @@ impl PatternCache {
                 pattern.row_idx[e] == i as usize && self.entry_col[e] == j
             })
     }
+}
+
+/// A counting sort of `len` items by their column (`column(k)` below `n` for item `k`): the items
+/// (`item(k)`) in column order, those of one column in the order they came, and where each
+/// column's run starts (`n + 1` offsets). What a sparse matrix is built from, column by column,
+/// without a sort of the whole list.
+pub fn bucket_by_column<T: Copy + Default>(
+    n: usize,
+    len: usize,
+    column: impl Fn(usize) -> usize,
+    item: impl Fn(usize) -> T,
+) -> (Vec<T>, Vec<usize>) {
+    let mut start = vec![0usize; n + 1];
+    for k in 0..len {
+        start[column(k) + 1] += 1;
+    }
+    for j in 0..n {
+        start[j + 1] += start[j];
+    }
+    let mut next = start[..n].to_vec();
+    let mut bucketed = vec![T::default(); len];
+    for k in 0..len {
+        let j = column(k);
+        bucketed[next[j]] = item(k);
+        next[j] += 1;
+    }
+    (bucketed, start)
 }
 
 #[cfg(test)]

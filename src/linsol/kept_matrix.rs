@@ -7,6 +7,7 @@
 //! unknowns where it is dense (the soil's) and its few entries elsewhere (the bars' stiffness): of
 //! the pull-out box's 2280 kept unknowns at 10⁵, F is dense on 1016, a fifth of the m × m array.
 
+use super::csc::bucket_by_column;
 use faer::dyn_stack::MemStack;
 use faer::reborrow::ReborrowMut;
 use faer::{Mat, MatMut, MatRef};
@@ -215,19 +216,8 @@ impl SparseColumns {
     /// row: no sort of the whole list (an interface's C is rebuilt every iteration).
     pub fn from_entries(m: usize, entries: impl Iterator<Item = (usize, usize, f64)>) -> SparseColumns {
         let list: Vec<(usize, usize, f64)> = entries.collect();
-        let mut start = vec![0usize; m + 1];
-        for &(_, j, _) in &list {
-            start[j + 1] += 1;
-        }
-        for j in 0..m {
-            start[j + 1] += start[j];
-        }
-        let mut next = start.clone();
-        let mut bucketed = vec![(0usize, 0.0f64); list.len()];
-        for (i, j, v) in list {
-            bucketed[next[j]] = (i, v);
-            next[j] += 1;
-        }
+        let (mut bucketed, start) = bucket_by_column(m, list.len(), |k| list[k].1, |k| (list[k].0, list[k].2));
+        drop(list);
         let mut col_ptr = vec![0; m + 1];
         let mut rows = Vec::with_capacity(bucketed.len());
         let mut values = Vec::with_capacity(bucketed.len());

@@ -186,7 +186,7 @@ impl Hdf5Results {
 
         let soil = new_group(&mesh, "soil").map_err(&fail)?;
         let x: Vec<f64> = layout.node_x.iter().flat_map(|p| [p[0], p[1], 0.0]).collect();
-        let soil_geometry = writer.table(&soil, "geometry", &x, 3, Some(units.length), Chunks::ByRow).map_err(&fail)?;
+        let soil_geometry = writer.table(&soil, "geometry", &x, 3, Some(units.length)).map_err(&fail)?;
 
         let reinforcement = if layout.bar_cells.is_empty() {
             None
@@ -194,9 +194,9 @@ impl Hdf5Results {
             let group = new_group(&mesh, "reinforcement").map_err(&fail)?;
             let x: Vec<f64> =
                 layout.bar_nodes.iter().flat_map(|&n| [layout.node_x[n][0], layout.node_x[n][1], 0.0]).collect();
-            let geometry = writer.table(&group, "geometry", &x, 3, Some(units.length), Chunks::ByRow).map_err(&fail)?;
+            let geometry = writer.table(&group, "geometry", &x, 3, Some(units.length)).map_err(&fail)?;
             let cells: Vec<i64> = layout.bar_cells.iter().flat_map(|c| [c[0] as i64, c[1] as i64]).collect();
-            let data = writer.table(&group, "topology", &cells, 2, None, Chunks::ByRow).map_err(&fail)?;
+            let data = writer.table(&group, "topology", &cells, 2, None).map_err(&fail)?;
             Some((geometry, Topology { kind: TopologyType::Polyline, cells: layout.bar_cells.len(), data }))
         };
 
@@ -410,8 +410,8 @@ impl Hdf5Results {
         let k = self.soil_topologies.len() + 1;
         let present = &grids.soil.present;
         let w = self.writer();
-        let element_id = w.table(&group, &format!("element_id-{k}"), &grids.soil.element_id, 1, None, Chunks::ByRow)?;
-        let material = w.table(&group, &format!("material-{k}"), &grids.soil.material, 1, None, Chunks::ByRow)?;
+        let element_id = w.table(&group, &format!("element_id-{k}"), &grids.soil.element_id, 1, None)?;
+        let material = w.table(&group, &format!("material-{k}"), &grids.soil.material, 1, None)?;
         let name = format!("topology-{k}");
         let kinds: Vec<SolidKind> = present.iter().map(|&i| layout.soil_cells[i].0).collect();
         let single = kinds.first().filter(|k| kinds.iter().all(|other| other == *k));
@@ -420,7 +420,7 @@ impl Hdf5Results {
                 let per_cell = layout.soil_cells[present[0]].1.len();
                 let cells: Vec<i64> =
                     present.iter().flat_map(|&i| layout.soil_cells[i].1.iter().map(|&n| n as i64)).collect();
-                (TopologyType::of(kind), w.table(&group, &name, &cells, per_cell, None, Chunks::ByRow)?)
+                (TopologyType::of(kind), w.table(&group, &name, &cells, per_cell, None)?)
             }
             None => {
                 let mut cells = Vec::new();
@@ -429,7 +429,7 @@ impl Hdf5Results {
                     cells.push(TopologyType::mixed_id(*kind));
                     cells.extend(nodes.iter().map(|&n| n as i64));
                 }
-                (TopologyType::Mixed, w.table(&group, &name, &cells, 1, None, Chunks::ByRow)?)
+                (TopologyType::Mixed, w.table(&group, &name, &cells, 1, None)?)
             }
         };
         Ok(SoilCells { topology: Topology { kind, cells: present.len(), data }, element_id, material })
@@ -453,16 +453,8 @@ impl Hdf5Results {
                 center: Center::Cell,
                 data: w.field(&group, "axial_force", &g.axial_force, 1, Some(&self.units.force_per_width))?,
             },
-            Field {
-                name: "state",
-                center: Center::Cell,
-                data: w.table(&group, "state", &g.state, 1, None, Chunks::ByRow)?,
-            },
-            Field {
-                name: "bar_id",
-                center: Center::Cell,
-                data: w.table(&group, "bar_id", &g.bar_id, 1, None, Chunks::ByRow)?,
-            },
+            Field { name: "state", center: Center::Cell, data: w.table(&group, "state", &g.state, 1, None)? },
+            Field { name: "bar_id", center: Center::Cell, data: w.table(&group, "bar_id", &g.bar_id, 1, None)? },
         ];
         Ok(Some(GridStep { topology: topology.clone(), geometry: geometry.clone(), fields }))
     }
@@ -483,10 +475,9 @@ impl Hdf5Results {
                 };
                 let w = self.writer();
                 let x: Vec<f64> = g.x.iter().flat_map(|p| [p[0], p[1], 0.0]).collect();
-                let geometry =
-                    w.table(&group, &format!("geometry-{k}"), &x, 3, Some(self.units.length), Chunks::ByRow)?;
+                let geometry = w.table(&group, &format!("geometry-{k}"), &x, 3, Some(self.units.length))?;
                 let vertices: Vec<i64> = (0..g.x.len() as i64).collect();
-                let data = w.table(&group, &format!("topology-{k}"), &vertices, 1, None, Chunks::ByRow)?;
+                let data = w.table(&group, &format!("topology-{k}"), &vertices, 1, None)?;
                 let topology = Topology { kind: TopologyType::Polyvertex, cells: g.x.len(), data };
                 self.interface_meshes.push((g.x.clone(), geometry.clone(), topology.clone()));
                 (geometry, topology)
@@ -501,7 +492,7 @@ impl Hdf5Results {
         let u = &self.units;
         let (length, stress) = (Some(u.length), Some(u.stress.as_str()));
         let node = |name: &'static str, data: DataRef| Field { name, center: Center::Node, data };
-        let face = w.table(&group, "face", &g.face, 1, None, Chunks::ByRow)?;
+        let face = w.table(&group, "face", &g.face, 1, None)?;
         let fields = vec![
             node("displacement", w.field(&group, "displacement", &g.displacement.concat(), 3, length)?),
             node("lambda", w.field(&group, "lambda", &g.lambda, 1, Some(&u.force_per_width))?),
@@ -510,7 +501,7 @@ impl Hdf5Results {
             node("bearing", w.field(&group, "bearing", &g.bearing, 1, stress)?),
             node("dilation", w.field(&group, "dilation", &g.dilation, 1, length)?),
             node("slip", w.field(&group, "slip", &g.slip, 1, length)?),
-            node("state", w.table(&group, "state", &g.state, 1, None, Chunks::ByRow)?),
+            node("state", w.table(&group, "state", &g.state, 1, None)?),
             node("face", face.clone()),
             // one vertex cell per point: the cells' face is the points'
             Field { name: "face", center: Center::Cell, data: face },
@@ -539,15 +530,6 @@ impl Stored for u64 {
     const NUMBER: NumberType = NumberType::UInt8;
 }
 
-/// How a compressed dataset is cut into chunks.
-#[derive(Clone, Copy, PartialEq, Eq)]
-enum Chunks {
-    /// Whole rows a chunk: the mesh, the ids, the states.
-    ByRow,
-    /// Each column a chunk of its own, shuffled before it is deflated: the step fields.
-    ByColumn,
-}
-
 /// Writes datasets, chunked and compressed when the library can.
 struct ArrayWriter<'a> {
     compress: bool,
@@ -557,7 +539,8 @@ struct ArrayWriter<'a> {
 
 impl ArrayWriter<'_> {
     /// `data` as a `rows × columns` dataset `name` of `group` (one-dimensional for one column),
-    /// with its `unit` as an attribute, chunked as `chunks` says.
+    /// with its `unit` as an attribute; when compressed, whole rows a chunk (the mesh, the ids,
+    /// the states; the step fields go through [`ArrayWriter::field`]).
     fn table<T: Stored>(
         &self,
         group: &Group,
@@ -565,23 +548,16 @@ impl ArrayWriter<'_> {
         data: &[T],
         columns: usize,
         unit: Option<&str>,
-        chunks: Chunks,
     ) -> hdf5::Result<DataRef> {
-        let by_column = chunks == Chunks::ByColumn;
         let rows = data.len() / columns.max(1);
         let dims = if columns == 1 { vec![rows] } else { vec![rows, columns] };
         let mut builder = group.new_dataset::<T>().shape(dims.clone());
         if self.compress && data.len() >= SMALL_VALUES {
-            let chunk = match (columns, by_column) {
-                (1, _) => vec![rows.min(CHUNK_VALUES)],
-                (_, true) => vec![rows.min(CHUNK_VALUES), 1],
-                (_, false) => vec![rows.min((CHUNK_VALUES / columns).max(1)), columns],
+            let chunk = match columns {
+                1 => vec![rows.min(CHUNK_VALUES)],
+                _ => vec![rows.min((CHUNK_VALUES / columns).max(1)), columns],
             };
-            builder = builder.chunk(chunk);
-            if by_column {
-                builder = builder.shuffle();
-            }
-            builder = builder.deflate(DEFLATE_LEVEL);
+            builder = builder.chunk(chunk).deflate(DEFLATE_LEVEL);
         }
         let dataset = builder.create(name)?;
         if rows > 0 {
@@ -614,10 +590,11 @@ impl ArrayWriter<'_> {
             (FieldPrecision::Single, true) => {
                 self.chunked_field::<f32, 4>(group, name, data, columns, unit, |v| (v as f32).to_ne_bytes())
             }
-            (FieldPrecision::Double, false) => self.table(group, name, data, columns, unit, Chunks::ByColumn),
+            // uncompressed (no deflate in the library) or too small to chunk
+            (FieldPrecision::Double, false) => self.table(group, name, data, columns, unit),
             (FieldPrecision::Single, false) => {
                 let single: Vec<f32> = data.iter().map(|&v| v as f32).collect();
-                self.table(group, name, &single, columns, unit, Chunks::ByColumn)
+                self.table(group, name, &single, columns, unit)
             }
         }
     }
