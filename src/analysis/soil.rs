@@ -498,33 +498,58 @@ pub struct ElementStress {
 /// The Gauss-point results of every present element: effective stress, strain since placement,
 /// pore pressure and yield state.
 pub fn gauss_results(model: &Model, field: &SoilField, u: &[f64]) -> Vec<ElementStress> {
-    // (each worker's elements gathered in one list, and the lists joined once)
-    (0..model.mesh.solids.len()).into_par_iter().flat_map_iter(|s| element_results(model, field, u, s)).collect()
+    // (each worker's elements gathered in one list, and the lists joined once; each worker reuses
+    // its buffers from element to element)
+    (0..model.mesh.solids.len())
+        .into_par_iter()
+        .map_init(ResultBuffers::default, |buffers, s| element_results(model, field, u, s, buffers))
+        .flat_map_iter(|points| points)
+        .collect()
+}
+
+/// What one worker reuses from element to element for the Gauss-point results: the element's node
+/// coordinates, its displacements and its mapped points.
+#[derive(Default)]
+struct ResultBuffers {
+    coords: Vec<[f64; 2]>,
+    u_e: Vec<f64>,
+    points: Vec<MappedPoint>,
 }
 
 /// The Gauss-point results of soil element `s` (none when it is absent): an elastic element's
 /// stress from the displacements `u`, a Mohr–Coulomb element's as last committed.
-fn element_results(model: &Model, field: &SoilField, u: &[f64], s: usize) -> Vec<ElementStress> {
+fn element_results(
+    model: &Model,
+    field: &SoilField,
+    u: &[f64],
+    s: usize,
+    buffers: &mut ResultBuffers,
+) -> Vec<ElementStress> {
     let state = &field.elements()[s];
     if !state.active {
         return Vec::new();
     }
     let e = &model.mesh.solids[s];
-    let dofs: Vec<usize> = e.nodes.iter().flat_map(|&n| [2 * n, 2 * n + 1]).collect();
-    let mut u_e = element_u(&dofs, u);
+    let ResultBuffers { coords, u_e, points } = buffers;
+    u_e.clear();
+    u_e.extend(e.nodes.iter().flat_map(|&n| [u[2 * n], u[2 * n + 1]]));
     if let Some(p) = &state.placed {
         for (a, b) in u_e.iter_mut().zip(p) {
             *a -= b;
         }
     }
+    coords.clear();
+    coords.extend(e.nodes.iter().map(|&n| model.mesh.position(n)));
+    solid::mapped_points_of_checked_into(e.kind, coords, model.integration(), model.mesh.geometry, points)
+        .expect("element Jacobians were checked when the model was read");
     let m = model.soil(s);
     let elastic = PlaneStrain { youngs_modulus: m.youngs_modulus, poissons_ratio: m.poissons_ratio };
     let plastic = model.strength(s).is_some();
-    element_points(model, e, model.integration())
+    points
         .iter()
         .enumerate()
         .map(|(g, p)| {
-            let eps = strain(p, &u_e);
+            let eps = strain(p, u_e);
             let point = state.points.get(g).copied().unwrap_or_default();
             let stress = if plastic {
                 point.stress
@@ -555,7 +580,7 @@ pub fn normal_stress_across(model: &Model, field: &SoilField, u: &[f64], solids:
     let per_element: Vec<f64> = solids
         .iter()
         .filter_map(|&s| {
-            let points = element_results(model, field, u, s);
+            let points = element_results(model, field, u, s, &mut ResultBuffers::default());
             (!points.is_empty()).then(|| {
                 let sum: f64 = points
                     .iter()

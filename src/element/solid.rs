@@ -213,8 +213,35 @@ fn map_points(
     geometry: Geometry,
     check_corners: bool,
 ) -> Result<Vec<MappedPoint>, BadJacobian> {
-    let size = coords.iter().fold(0.0f64, |m, c| m.max(c[0].abs()).max(c[1].abs())).max(1e-300);
     let mut points = Vec::new();
+    map_points_into(kind, coords, rule, geometry, check_corners, &mut points)?;
+    Ok(points)
+}
+
+/// [`mapped_points_of_checked`] into `points`, whose shape-function buffers are reused: a step's
+/// results map every element again, and without the reuse each element took a dozen allocations.
+///
+/// # Errors
+/// As [`mapped_points_of_checked`]; `points` then holds no meaningful values.
+pub fn mapped_points_of_checked_into(
+    kind: SolidKind,
+    coords: &[[f64; 2]],
+    rule: Integration,
+    geometry: Geometry,
+    points: &mut Vec<MappedPoint>,
+) -> Result<(), BadJacobian> {
+    map_points_into(kind, coords, rule, geometry, false, points)
+}
+
+fn map_points_into(
+    kind: SolidKind,
+    coords: &[[f64; 2]],
+    rule: Integration,
+    geometry: Geometry,
+    check_corners: bool,
+    points: &mut Vec<MappedPoint>,
+) -> Result<(), BadJacobian> {
+    let size = coords.iter().fold(0.0f64, |m, c| m.max(c[0].abs()).max(c[1].abs())).max(1e-300);
     let corners: &[(f64, f64)] = match kind {
         SolidKind::Quad4 | SolidKind::Quad8 if check_corners => &[(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)],
         _ => &[],
@@ -229,9 +256,15 @@ fn map_points(
             return Err(BadJacobian { det });
         }
     }
-    for (xi, eta, w) in gauss_points(kind, rule) {
-        let (n, mut dn) = shape(kind, xi, eta);
-        let j = jacobian(&dn, coords);
+    let rule_points = gauss_points(kind, rule);
+    points.truncate(rule_points.len());
+    while points.len() < rule_points.len() {
+        let (n, dn_dx) = (Vec::with_capacity(8), Vec::with_capacity(8));
+        points.push(MappedPoint { x: [0.0; 2], weight: 0.0, n, dn_dx, inverse_radius: None });
+    }
+    for (p, (xi, eta, w)) in points.iter_mut().zip(rule_points) {
+        shape_into(kind, xi, eta, &mut p.n, &mut p.dn_dx);
+        let j = jacobian(&p.dn_dx, coords);
         let det = j[0][0] * j[1][1] - j[0][1] * j[1][0];
         if !(det > 1e-12 * size * size) {
             return Err(BadJacobian { det });
@@ -239,12 +272,11 @@ fn map_points(
         // inverse of J = [[dx/dξ, dy/dξ], [dx/dη, dy/dη]]
         let inv = [[j[1][1] / det, -j[0][1] / det], [-j[1][0] / det, j[0][0] / det]];
         // ∂N/∂x in place of ∂N/∂ξ
-        for d in dn.iter_mut() {
+        for d in p.dn_dx.iter_mut() {
             *d = [inv[0][0] * d[0] + inv[0][1] * d[1], inv[1][0] * d[0] + inv[1][1] * d[1]];
         }
-        let dn_dx = dn;
         let mut x = [0.0; 2];
-        for (ni, c) in n.iter().zip(coords) {
+        for (ni, c) in p.n.iter().zip(coords) {
             x[0] += ni * c[0];
             x[1] += ni * c[1];
         }
@@ -257,9 +289,9 @@ fn map_points(
                 (w * det * geometry.circumference(x), Some(1.0 / x[0]))
             }
         };
-        points.push(MappedPoint { x, weight, n, dn_dx, inverse_radius });
+        (p.x, p.weight, p.inverse_radius) = (x, weight, inverse_radius);
     }
-    Ok(points)
+    Ok(())
 }
 
 fn jacobian(dn: &[[f64; 2]], coords: &[[f64; 2]]) -> [[f64; 2]; 2] {
@@ -622,5 +654,35 @@ mod tests {
         assert!((f[1] + f[3] - 6.0).abs() < 1e-12 && (f[0] + f[2]).abs() < 1e-12);
         let f = side_traction(&[[0.0, 0.0], [2.0, 0.0], [1.0, 0.0]], 3.0, 0.0, 1.0, Geometry::PlaneStrain);
         assert!((f[1] - 1.0).abs() < 1e-12 && (f[3] - 1.0).abs() < 1e-12 && (f[5] - 4.0).abs() < 1e-12);
+    }
+
+    /// Mapping into a buffer another element left (of another kind, rule or geometry) gives the
+    /// points a fresh mapping gives, to the last bit.
+    #[test]
+    fn points_mapped_into_a_reused_buffer_are_those_mapped_afresh() {
+        let mut reused = Vec::new();
+        let cases = [
+            (SolidKind::Quad8, Integration::Full, Geometry::PlaneStrain),
+            (SolidKind::Tri3, Integration::Full, Geometry::PlaneStrain),
+            (SolidKind::Quad4, Integration::Full, Geometry::Axisymmetric),
+            (SolidKind::Quad8, Integration::Reduced, Geometry::PlaneStrain),
+            (SolidKind::Tri6, Integration::Full, Geometry::Axisymmetric),
+            (SolidKind::Quad4, Integration::Full, Geometry::PlaneStrain),
+        ];
+        for (kind, rule, geometry) in cases {
+            let (x, elements, _) = patch(kind);
+            // (shifted off the axis, for the axisymmetric cases)
+            let coords: Vec<[f64; 2]> = elements[1].iter().map(|&n| [x[n][0] + 0.5, x[n][1]]).collect();
+            let fresh = mapped_points_of_checked(kind, &coords, rule, geometry).unwrap();
+            mapped_points_of_checked_into(kind, &coords, rule, geometry, &mut reused).unwrap();
+            assert_eq!(reused.len(), fresh.len(), "{kind:?} {rule:?}");
+            for (a, b) in reused.iter().zip(&fresh) {
+                assert_eq!(a.x.map(f64::to_bits), b.x.map(f64::to_bits));
+                assert_eq!(a.weight.to_bits(), b.weight.to_bits());
+                assert_eq!(a.n, b.n);
+                assert_eq!(a.dn_dx, b.dn_dx);
+                assert_eq!(a.inverse_radius, b.inverse_radius);
+            }
+        }
     }
 }

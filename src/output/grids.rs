@@ -6,9 +6,11 @@
 //! Soil cell values are element averages of the Gauss-point values: the sum over the element's
 //! Gauss points in the order of `StepResults::stresses`, divided by their number.
 
+use crate::analysis::results::ElementStress;
 use crate::analysis::results::StepResults;
 use crate::model::file::SolidKind;
 use crate::model::Model;
+use rayon::prelude::*;
 use std::collections::HashMap;
 
 /// The interface point state written as an integer: 0 stick, 1 slip, 2 open, 3 residual.
@@ -158,6 +160,54 @@ pub struct StepGrids {
     pub interface: InterfaceGrid,
 }
 
+/// One soil element's sums over its Gauss points, for the cell means.
+#[derive(Clone, Copy, Default)]
+struct CellSums {
+    /// In VTK's order xx, yy, zz, xy, yz, xz.
+    stress: [f64; 6],
+    /// As `stress`, the shear as the tensor component εxy = γxy/2.
+    strain: [f64; 6],
+    pore: f64,
+    /// Gauss points on the yield surface.
+    plastic: f64,
+    plastic_strain: f64,
+    count: usize,
+}
+
+impl CellSums {
+    /// The sums over `points`, in their order.
+    fn of(points: &[ElementStress]) -> CellSums {
+        let mut sums = CellSums::default();
+        for g in points {
+            sums.pore += g.pore_pressure;
+            sums.plastic += if g.yield_state.is_plastic() { 1.0 } else { 0.0 };
+            sums.plastic_strain += g.plastic_strain;
+            let (s, e) = (g.stress, g.strain);
+            for (k, v) in [s[0], s[1], s[3], s[2], 0.0, 0.0].into_iter().enumerate() {
+                sums.stress[k] += v;
+            }
+            for (k, v) in [e[0], e[1], 0.0, 0.5 * e[2], 0.0, 0.0].into_iter().enumerate() {
+                sums.strain[k] += v;
+            }
+            sums.count += 1;
+        }
+        sums
+    }
+
+    fn add(&mut self, other: &CellSums) {
+        for (a, b) in self.stress.iter_mut().zip(other.stress) {
+            *a += b;
+        }
+        for (a, b) in self.strain.iter_mut().zip(other.strain) {
+            *a += b;
+        }
+        self.pore += other.pore;
+        self.plastic += other.plastic;
+        self.plastic_strain += other.plastic_strain;
+        self.count += other.count;
+    }
+}
+
 impl GridLayout {
     pub fn new(model: &Model) -> Self {
         let mesh = &model.mesh;
@@ -200,35 +250,26 @@ impl GridLayout {
 
     fn soil(&self, r: &StepResults, u: &[[f64; 3]]) -> SoilGrid {
         let n = self.soil_ids.len();
-        let mut stress = vec![[0.0; 6]; n];
-        let mut strain = vec![[0.0; 6]; n];
-        let mut count = vec![0usize; n];
-        let mut pore = vec![0.0; n];
-        let mut plastic = vec![0.0; n];
-        let mut plastic_strain = vec![0.0; n];
-        for g in &r.stresses {
-            let Some(i) = self.soil_row.get(g.element) else { continue };
-            pore[i] += g.pore_pressure;
-            plastic[i] += if g.yield_state.is_plastic() { 1.0 } else { 0.0 };
-            plastic_strain[i] += g.plastic_strain;
-            let (s, e) = (g.stress, g.strain);
-            for (k, v) in [s[0], s[1], s[3], s[2], 0.0, 0.0].into_iter().enumerate() {
-                stress[i][k] += v;
-            }
-            for (k, v) in [e[0], e[1], 0.0, 0.5 * e[2], 0.0, 0.0].into_iter().enumerate() {
-                strain[i][k] += v;
-            }
-            count[i] += 1;
+        // an element's Gauss points come one after another (`StepResults::stresses` lists them
+        // element by element): each run of them summed in parallel, the runs added up by element
+        let runs: Vec<(usize, CellSums)> = r
+            .stresses
+            .par_chunk_by(|a, b| a.element == b.element)
+            .filter_map(|points| Some((self.soil_row.get(points[0].element)?, CellSums::of(points))))
+            .collect();
+        let mut sums = vec![CellSums::default(); n];
+        for (i, run) in &runs {
+            sums[*i].add(run);
         }
-        let present: Vec<usize> = (0..n).filter(|&i| count[i] > 0).collect();
-        let mean = |sum: f64, i: usize| sum / count[i] as f64;
+        let present: Vec<usize> = (0..n).filter(|&i| sums[i].count > 0).collect();
+        let mean = |sum: f64, i: usize| sum / sums[i].count as f64;
         SoilGrid {
             displacement: u.to_vec(),
-            stress: present.iter().map(|&i| stress[i].map(|v| mean(v, i))).collect(),
-            strain: present.iter().map(|&i| strain[i].map(|v| mean(v, i))).collect(),
-            pore_pressure: present.iter().map(|&i| mean(pore[i], i)).collect(),
-            plastic_fraction: present.iter().map(|&i| mean(plastic[i], i)).collect(),
-            plastic_strain: present.iter().map(|&i| mean(plastic_strain[i], i)).collect(),
+            stress: present.iter().map(|&i| sums[i].stress.map(|v| mean(v, i))).collect(),
+            strain: present.iter().map(|&i| sums[i].strain.map(|v| mean(v, i))).collect(),
+            pore_pressure: present.iter().map(|&i| mean(sums[i].pore, i)).collect(),
+            plastic_fraction: present.iter().map(|&i| mean(sums[i].plastic, i)).collect(),
+            plastic_strain: present.iter().map(|&i| mean(sums[i].plastic_strain, i)).collect(),
             material: present.iter().map(|&i| self.soil_material[i]).collect(),
             element_id: present.iter().map(|&i| self.soil_ids[i]).collect(),
             present,
@@ -278,5 +319,68 @@ impl GridLayout {
             face_names: faces.iter().map(|(interface, face)| format!("{interface}:{face}")).collect(),
             lines,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::element::mohr_coulomb::YieldState;
+
+    fn point(element: u64, point: usize, v: f64, yielding: bool) -> ElementStress {
+        ElementStress {
+            element,
+            point,
+            x: [0.0; 2],
+            stress: [v, 2.0 * v, 3.0 * v, 4.0 * v],
+            strain: [v, -v, 2.0 * v],
+            pore_pressure: 10.0 * v,
+            yield_state: if yielding { YieldState::Shear } else { YieldState::Elastic },
+            plastic_strain: 0.5 * v,
+        }
+    }
+
+    /// Each present element's cell values are the means over its Gauss points, wherever in the
+    /// list they come (one element's points split in two runs here), in the layout's element
+    /// order; an element with no points is left out, as are points of an unknown element.
+    #[test]
+    fn cell_values_are_the_means_of_each_elements_gauss_points() {
+        let soil_ids = vec![3u64, 7, 9];
+        let layout = GridLayout {
+            node_x: vec![],
+            node_index: IdIndex::new(std::iter::empty()),
+            soil_cells: vec![(SolidKind::Tri3, vec![]); 3],
+            soil_material: vec![0, 1, 2],
+            soil_row: IdIndex::new(soil_ids.iter().copied()),
+            soil_ids,
+            bar_nodes: vec![],
+            bar_cells: vec![],
+        };
+        let stresses = vec![
+            point(7, 1, 1.0, false),
+            point(7, 2, 2.0, true),
+            point(3, 1, 5.0, false),
+            point(42, 1, 100.0, false),
+            point(7, 3, 6.0, false),
+        ];
+        let r = StepResults {
+            displacements: vec![],
+            reactions: vec![],
+            bar_forces: vec![],
+            interface_points: vec![],
+            stresses,
+            reaction_vector: vec![],
+            displacement_vector: vec![],
+        };
+        let g = layout.soil(&r, &[]);
+        assert_eq!(g.present, vec![0, 1]);
+        assert_eq!(g.element_id, vec![3, 7]);
+        assert_eq!(g.material, vec![0, 1]);
+        // element 3: one point of 5; element 7: the mean of 1, 2 and 6 is 3
+        assert_eq!(g.stress, vec![[5.0, 10.0, 20.0, 15.0, 0.0, 0.0], [3.0, 6.0, 12.0, 9.0, 0.0, 0.0]]);
+        assert_eq!(g.strain, vec![[5.0, -5.0, 0.0, 5.0, 0.0, 0.0], [3.0, -3.0, 0.0, 3.0, 0.0, 0.0]]);
+        assert_eq!(g.pore_pressure, vec![50.0, 30.0]);
+        assert_eq!(g.plastic_fraction, vec![0.0, 1.0 / 3.0]);
+        assert_eq!(g.plastic_strain, vec![2.5, 1.5]);
     }
 }
