@@ -21,8 +21,6 @@ const STORED_BLOCK: usize = 65_535;
 /// Shuffles and deflates chunks, reusing its buffers from one chunk to the next.
 pub struct ChunkDeflater {
     compressor: Compressor,
-    /// The chunk's values, as they come.
-    values: Vec<u8>,
     shuffled: Vec<u8>,
     deflated: Vec<u8>,
 }
@@ -34,12 +32,7 @@ impl ChunkDeflater {
     /// A message when libdeflate has no such level.
     pub fn new(level: u8) -> Result<Self, String> {
         let level = CompressionLvl::new(i32::from(level)).map_err(|e| format!("deflate level {level}: {e:?}"))?;
-        Ok(ChunkDeflater {
-            compressor: Compressor::new(level),
-            values: Vec::new(),
-            shuffled: Vec::new(),
-            deflated: Vec::new(),
-        })
+        Ok(ChunkDeflater { compressor: Compressor::new(level), shuffled: Vec::new(), deflated: Vec::new() })
     }
 
     /// The chunk of `len` values whose first ones are `values` (each its `S` bytes as the
@@ -50,28 +43,19 @@ impl ChunkDeflater {
     ///
     /// # Errors
     /// A message when `values` holds more than `len` values.
-    pub fn deflate<const S: usize>(
-        &mut self,
-        values: impl Iterator<Item = [u8; S]>,
-        len: usize,
-    ) -> Result<Option<&[u8]>, String> {
-        self.values.clear();
-        self.values.reserve(len * S);
-        for bytes in values {
-            self.values.extend_from_slice(&bytes);
-        }
-        if self.values.len() > len * S {
+    pub fn deflate<const S: usize>(&mut self, values: &[[u8; S]], len: usize) -> Result<Option<&[u8]>, String> {
+        if values.len() > len {
             return Err(format!("more than {len} values for a chunk of {len}"));
         }
         // (or-ed together without an early exit, which the compiler vectorises)
-        if self.values.iter().fold(0, |any, &b| any | b) == 0 {
+        if values.as_flattened().iter().fold(0, |any, &b| any | b) == 0 {
             return Ok(None);
         }
         // plane by plane: byte j of every value, the padding left zero
         self.shuffled.clear();
         self.shuffled.resize(len * S, 0);
         for (j, plane) in self.shuffled.chunks_exact_mut(len).enumerate() {
-            for (to, value) in plane.iter_mut().zip(self.values.chunks_exact(S)) {
+            for (to, value) in plane.iter_mut().zip(values) {
                 *to = value[j];
             }
         }
@@ -140,6 +124,10 @@ mod tests {
     use super::*;
     use std::io::Read;
 
+    fn bytes_of<T: Copy, const S: usize>(values: &[T], bytes: fn(T) -> [u8; S]) -> Vec<[u8; S]> {
+        values.iter().map(|&v| bytes(v)).collect()
+    }
+
     /// Inflate with zlib (flate2), as HDF5's filter does, and undo the shuffle.
     fn unfilter<const S: usize>(deflated: &[u8], len: usize) -> Vec<[u8; S]> {
         let mut shuffled = Vec::new();
@@ -152,13 +140,13 @@ mod tests {
     fn a_chunk_comes_back_through_zlib_and_the_unshuffle_padded_with_zeros() {
         let values: Vec<f32> = (0..1000).map(|i| (i as f32 * 0.37).sin() * 1e-3).collect();
         let mut deflater = ChunkDeflater::new(1).unwrap();
-        let deflated = deflater.deflate(values.iter().map(|v| v.to_ne_bytes()), 1200).unwrap().unwrap().to_vec();
+        let deflated = deflater.deflate(&bytes_of(&values, f32::to_ne_bytes), 1200).unwrap().unwrap().to_vec();
         let back: Vec<f32> = unfilter::<4>(&deflated, 1200).into_iter().map(f32::from_ne_bytes).collect();
         assert_eq!(&back[..1000], &values[..]);
         assert!(back[1000..].iter().all(|&v| v.to_bits() == 0));
         // the buffers reused for a second chunk of another width
         let doubles = [1.5f64, -2.25, 0.0, 1e-300];
-        let deflated = deflater.deflate(doubles.iter().map(|v| v.to_ne_bytes()), 4).unwrap().unwrap().to_vec();
+        let deflated = deflater.deflate(&bytes_of(&doubles, f64::to_ne_bytes), 4).unwrap().unwrap().to_vec();
         let back: Vec<f64> = unfilter::<8>(&deflated, 4).into_iter().map(f64::from_ne_bytes).collect();
         assert_eq!(back, doubles);
     }
@@ -180,7 +168,7 @@ mod tests {
         let mut deflater = ChunkDeflater::new(1).unwrap();
         // double precision: the low planes noise, the exponent's compressible
         let values = noisy(100_000, 1e-3);
-        let deflated = deflater.deflate(values.iter().map(|v| v.to_ne_bytes()), 100_000).unwrap().unwrap().to_vec();
+        let deflated = deflater.deflate(&bytes_of(&values, f64::to_ne_bytes), 100_000).unwrap().unwrap().to_vec();
         // the stored blocks are there: a stored block's header follows zlib's
         assert_eq!(&deflated[..3], &[0x78, 0x01, 0x00], "the first plane stored");
         let back: Vec<f64> = unfilter::<8>(&deflated, 100_000).into_iter().map(f64::from_ne_bytes).collect();
@@ -189,7 +177,7 @@ mod tests {
         assert!(deflated.len() < 8 * 100_000, "{}", deflated.len());
         // every plane noise: all stored, ending with an empty last block
         let bits: Vec<u32> = noisy(70_000, 1.0).iter().map(|v| (v.to_bits() >> 7) as u32).collect();
-        let deflated = deflater.deflate(bits.iter().map(|v| v.to_ne_bytes()), 70_000).unwrap().unwrap().to_vec();
+        let deflated = deflater.deflate(&bytes_of(&bits, u32::to_ne_bytes), 70_000).unwrap().unwrap().to_vec();
         let back: Vec<u32> = unfilter::<4>(&deflated, 70_000).into_iter().map(u32::from_ne_bytes).collect();
         assert_eq!(back, bits);
     }
@@ -206,16 +194,16 @@ mod tests {
     #[test]
     fn a_chunk_of_zeros_is_not_stored_but_a_negative_zero_is() {
         let mut deflater = ChunkDeflater::new(1).unwrap();
-        assert!(deflater.deflate([0.0f32; 50].iter().map(|v| v.to_ne_bytes()), 64).unwrap().is_none());
+        assert!(deflater.deflate(&bytes_of(&[0.0f32; 50], f32::to_ne_bytes), 64).unwrap().is_none());
         let mut signed = [0.0f32; 50];
         signed[7] = -0.0;
-        assert!(deflater.deflate(signed.iter().map(|v| v.to_ne_bytes()), 64).unwrap().is_some());
+        assert!(deflater.deflate(&bytes_of(&signed, f32::to_ne_bytes), 64).unwrap().is_some());
     }
 
     #[test]
     fn more_values_than_the_chunk_holds_is_an_error() {
         let mut deflater = ChunkDeflater::new(1).unwrap();
-        let err = deflater.deflate([1.0f64; 5].iter().map(|v| v.to_ne_bytes()), 4).unwrap_err();
+        let err = deflater.deflate(&bytes_of(&[1.0f64; 5], f64::to_ne_bytes), 4).unwrap_err();
         assert!(err.contains("more than 4"), "{err}");
         assert!(ChunkDeflater::new(13).is_err());
     }

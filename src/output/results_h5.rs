@@ -370,17 +370,17 @@ impl Hdf5Results {
             Field {
                 name: "displacement",
                 center: Center::Node,
-                data: w.field(&group, "displacement", &g.displacement.concat(), 3, length)?,
+                data: w.field(&group, "displacement", g.displacement.as_flattened(), 3, length)?,
             },
             Field {
                 name: "stress",
                 center: Center::Cell,
-                data: w.field(&group, "stress", &g.stress.concat(), 6, stress)?,
+                data: w.field(&group, "stress", g.stress.as_flattened(), 6, stress)?,
             },
             Field {
                 name: "strain",
                 center: Center::Cell,
-                data: w.field(&group, "strain", &g.strain.concat(), 6, Some("-"))?,
+                data: w.field(&group, "strain", g.strain.as_flattened(), 6, Some("-"))?,
             },
             Field {
                 name: "pore_pressure",
@@ -446,7 +446,7 @@ impl Hdf5Results {
             Field {
                 name: "displacement",
                 center: Center::Node,
-                data: w.field(&group, "displacement", &g.displacement.concat(), 3, Some(self.units.length))?,
+                data: w.field(&group, "displacement", g.displacement.as_flattened(), 3, Some(self.units.length))?,
             },
             Field {
                 name: "axial_force",
@@ -494,7 +494,7 @@ impl Hdf5Results {
         let node = |name: &'static str, data: DataRef| Field { name, center: Center::Node, data };
         let face = w.table(&group, "face", &g.face, 1, None)?;
         let fields = vec![
-            node("displacement", w.field(&group, "displacement", &g.displacement.concat(), 3, length)?),
+            node("displacement", w.field(&group, "displacement", g.displacement.as_flattened(), 3, length)?),
             node("lambda", w.field(&group, "lambda", &g.lambda, 1, Some(&u.force_per_width))?),
             node("sigma_n", w.field(&group, "sigma_n", &g.sigma_n, 1, stress)?),
             node("tau", w.field(&group, "tau", &g.tau, 1, stress)?),
@@ -623,12 +623,20 @@ impl ArrayWriter<'_> {
             .deflate(DEFLATE_LEVEL)
             .fill_value(T::default())
             .create(name)?;
+        // the table's columns one after another, each value as the dataset stores it, in one
+        // pass over the rows (a column read alone from the rows would touch every row's cache
+        // line once a column)
+        let mut by_column = vec![[0u8; S]; rows * columns];
+        for (row, values) in data.chunks_exact(columns).enumerate() {
+            for (column, &v) in values.iter().enumerate() {
+                by_column[column * rows + row] = bytes(v);
+            }
+        }
         let mut deflater = self.deflater.borrow_mut();
-        for column in 0..columns {
-            for start in (0..rows).step_by(chunk_rows) {
-                let end = (start + chunk_rows).min(rows);
-                let values = (start..end).map(|row| bytes(data[row * columns + column]));
-                let Some(deflated) = deflater.deflate(values, chunk_rows)? else { continue };
+        for (column, values) in by_column.chunks_exact(rows.max(1)).enumerate() {
+            for (k, chunk) in values.chunks(chunk_rows).enumerate() {
+                let start = k * chunk_rows;
+                let Some(deflated) = deflater.deflate(chunk, chunk_rows)? else { continue };
                 let offset = if columns == 1 { vec![start as u64] } else { vec![start as u64, column as u64] };
                 hdf5_chunk::write_chunk(&dataset, &offset, deflated)?;
             }
