@@ -301,6 +301,13 @@ fn every_field_of_every_step_reads_back(precision: FieldPrecision) {
         states.extend(r.interface_points.iter().map(|p| (p.state, p.sliding)));
     }
     assert!(states.contains(&("active", true)) && states.contains(&("active", false)), "{states:?}");
+    // the writer thread's CPU time, in the summary: some, and no more than the run and the
+    // writer's end took
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.path().join("summary.json")).unwrap()).unwrap();
+    let writer = summary["writer_thread_seconds"].as_f64().expect("the writer thread's CPU time");
+    let total = summary["total_seconds"].as_f64().unwrap() + summary["write_seconds"].as_f64().unwrap();
+    assert!(writer > 0.0 && writer < total, "writer thread {writer} s in a run and its writing of {total} s");
 
     // the history: one entry per step, and the pulled head's mean displacement and total reaction
     let n = steps.steps.len();

@@ -196,6 +196,10 @@ enum Command {
         /// The pull-out run with `extrapolation = "linear"`.
         #[arg(long)]
         extrapolate: bool,
+        /// The pull-out run's output share from this many written runs, each between two runs
+        /// writing nothing (its mean and standard error in the measurement).
+        #[arg(long, default_value_t = 1)]
+        pairs: usize,
     },
 }
 
@@ -259,7 +263,7 @@ fn command_line() -> ExitCode {
                 ExitCode::from(exit::SOLVER)
             }
         },
-        Command::BenchOne { dofs, backend, ordering, nonlinear, pullout, scheme, full_system, extrapolate } => {
+        Command::BenchOne { dofs, backend, ordering, nonlinear, pullout, scheme, full_system, extrapolate, pairs } => {
             let backend = Backend::available().into_iter().find(|b| b.name() == backend);
             let line = match (nonlinear, backend) {
                 (_, Some(b)) if pullout => {
@@ -269,7 +273,14 @@ fn command_line() -> ExitCode {
                         _ => Scheme::ConstantStiffness,
                     };
                     let extrapolation = if extrapolate { Extrapolation::Linear } else { Extrapolation::None };
-                    serde_json::to_string(&pullout_bench::measure_pullout(dofs, b, scheme, !full_system, extrapolation))
+                    serde_json::to_string(&pullout_bench::measure_pullout(
+                        dofs,
+                        b,
+                        scheme,
+                        !full_system,
+                        extrapolation,
+                        pairs,
+                    ))
                 }
                 (true, Some(b)) => serde_json::to_string(&measure::measure_nonlinear(dofs, b, ordering)),
                 _ => serde_json::to_string(&measure::measure(dofs, backend, ordering)),

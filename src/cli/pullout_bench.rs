@@ -71,6 +71,13 @@ pub struct PulloutMeasurement {
     pub dense_iterations: usize,
     pub solves: usize,
     pub output_seconds: f64,
+    /// The first run's time in the result writer on the run's own thread (the summary's
+    /// `write_seconds`).
+    #[serde(default)]
+    pub write_seconds: f64,
+    /// The CPU time of the thread writing `results.h5` in the first run, where known.
+    #[serde(default)]
+    pub writer_thread_seconds: Option<f64>,
     /// The same run in the same process with no result files (the head force kept in memory):
     /// the mean of two, one before and one after `rewritten_wall_seconds`.
     #[serde(default)]
@@ -78,6 +85,16 @@ pub struct PulloutMeasurement {
     /// The run writing its results once more, between the two writing nothing.
     #[serde(default)]
     pub rewritten_wall_seconds: f64,
+    /// How many written runs `rewritten_wall_seconds` and `unwritten_wall_seconds` are the means
+    /// of (`--pairs`): the written runs alternate with runs writing nothing, one more of those.
+    #[serde(default)]
+    pub share_pairs: usize,
+    /// The mean over the written runs of 1 − (the mean of the two unwritten runs around it) / (its
+    /// wall time), and that mean's standard error (zero for one written run).
+    #[serde(default)]
+    pub output_share_mean: f64,
+    #[serde(default)]
+    pub output_share_error: f64,
     pub output_bytes: u64,
     /// The peak resident memory of the process when the run (the first, writing its results) has
     /// ended: the model built and the run, before the run writing nothing and the floor's
@@ -102,11 +119,14 @@ impl PulloutMeasurement {
 
     /// The share of the run that writing its results costs: 1 − (the run writing nothing) / (the
     /// run writing its results), both after the first run of the process (whose wall time is the
-    /// one reported), the written one between two unwritten ones. A process's first run pays
-    /// once for what the later ones find ready (the heap grown, the libraries' first calls), and
-    /// its later runs drift faster still: a pair with the first run in it would count either as
-    /// output.
+    /// one reported), each written run between two unwritten ones, averaged over the written
+    /// runs. A process's first run pays once for what the later ones find ready (the heap grown,
+    /// the libraries' first calls), and its later runs drift faster still: a pair with the first
+    /// run in it would count either as output.
     pub fn output_share(&self) -> f64 {
+        if self.share_pairs > 0 {
+            return self.output_share_mean;
+        }
         let written = if self.rewritten_wall_seconds > 0.0 { self.rewritten_wall_seconds } else { self.wall_seconds };
         1.0 - self.unwritten_wall_seconds / written
     }
@@ -135,13 +155,15 @@ fn median3(mut v: [f64; 3]) -> f64 {
     v[1]
 }
 
-/// Run the benchmark model with about `dofs` unknowns, its results written into a temporary folder.
+/// Run the benchmark model with about `dofs` unknowns, its results written into a temporary folder;
+/// then `pairs` times the same run writing nothing and writing again, for the output share.
 pub fn measure_pullout(
     dofs: usize,
     backend: Backend,
     scheme: Scheme,
     condense: bool,
     extrapolation: Extrapolation,
+    pairs: usize,
 ) -> PulloutMeasurement {
     let model = pullout_box(dofs, scheme, extrapolation);
     let mut m = PulloutMeasurement {
@@ -184,6 +206,8 @@ pub fn measure_pullout(
             m.dense_iterations = s.dense_iterations;
             m.solves = s.solves;
             m.output_seconds = s.output_seconds;
+            m.writer_thread_seconds = writer.summary.writer_thread_seconds;
+            m.write_seconds = writer.summary.write_seconds;
             m.kept = s.condensed_unknowns;
             m.phases = [
                 s.assembly_seconds,
@@ -202,34 +226,53 @@ pub fn measure_pullout(
     m.output_bytes = folder_bytes(out.path());
     drop(out);
     // the same run writing nothing, then writing its results again (in a folder of its own),
-    // then writing nothing again: what writing costs is the written run against the mean of the
-    // two around it
+    // then writing nothing again, `pairs` times over: what writing costs is each written run
+    // against the mean of the two around it
     let unwritten_run = || {
         let mut unwritten = Head { nodes: head.nodes.clone(), pull_steps: 0, force: 0.0 };
         let t = Instant::now();
         let result = analysis::run(&model, &options, &mut unwritten);
         (t.elapsed().as_secs_f64(), result.err())
     };
-    let (before, error) = unwritten_run();
+    let (mut before, error) = unwritten_run();
     if let Some(e) = error {
         m.error = Some(e.to_string());
     }
-    match tempfile::tempdir() {
-        Ok(again) => {
-            let mut rewritten = Head { nodes: head.nodes.clone(), pull_steps: 0, force: 0.0 };
-            let t = Instant::now();
-            if let Err(e) = written_run(again.path(), &mut rewritten) {
-                m.error = Some(e.to_string());
+    let (mut unwritten, mut rewritten, mut shares) = (Vec::new(), Vec::new(), Vec::new());
+    unwritten.push(before);
+    for _ in 0..pairs.max(1) {
+        let written = match tempfile::tempdir() {
+            Ok(again) => {
+                let mut rewritten = Head { nodes: head.nodes.clone(), pull_steps: 0, force: 0.0 };
+                let t = Instant::now();
+                if let Err(e) = written_run(again.path(), &mut rewritten) {
+                    m.error = Some(e.to_string());
+                }
+                t.elapsed().as_secs_f64()
             }
-            m.rewritten_wall_seconds = t.elapsed().as_secs_f64();
+            Err(e) => {
+                m.error = Some(e.to_string());
+                break;
+            }
+        };
+        let (after, error) = unwritten_run();
+        if let Some(e) = error {
+            m.error = Some(e.to_string());
         }
-        Err(e) => m.error = Some(e.to_string()),
+        rewritten.push(written);
+        unwritten.push(after);
+        shares.push(1.0 - 0.5 * (before + after) / written);
+        before = after;
     }
-    let (after, error) = unwritten_run();
-    if let Some(e) = error {
-        m.error = Some(e.to_string());
+    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len().max(1) as f64;
+    m.unwritten_wall_seconds = mean(&unwritten);
+    m.rewritten_wall_seconds = mean(&rewritten);
+    m.share_pairs = shares.len();
+    m.output_share_mean = mean(&shares);
+    if shares.len() > 1 {
+        let spread = shares.iter().map(|s| (s - m.output_share_mean).powi(2)).sum::<f64>() / (shares.len() - 1) as f64;
+        m.output_share_error = (spread / shares.len() as f64).sqrt();
     }
-    m.unwritten_wall_seconds = 0.5 * (before + after);
     // the floor, in this process: the first system factorised and solved three times each
     let (n, system) = analysis::first_system(&model);
     m.unknowns = n;

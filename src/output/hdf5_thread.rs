@@ -51,8 +51,10 @@ enum Job {
 /// The writer thread of `results.h5`.
 pub struct Hdf5Thread {
     jobs: Option<SyncSender<Job>>,
-    thread: Option<JoinHandle<Result<(), Error>>>,
+    thread: Option<JoinHandle<Result<Option<f64>, Error>>>,
     path: PathBuf,
+    /// The thread's CPU time when it ended [s], where the system tells it.
+    cpu_seconds: Option<f64>,
 }
 
 impl Hdf5Thread {
@@ -74,10 +76,11 @@ impl Hdf5Thread {
                         Job::File { path, bytes } => write_atomically(&path, &bytes)?,
                     }
                 }
-                results.commit()
+                results.commit()?;
+                Ok(thread_cpu_seconds())
             })
             .map_err(|source| Error::Write { path: path.clone(), source })?;
-        Ok(Hdf5Thread { jobs: Some(jobs), thread: Some(thread), path })
+        Ok(Hdf5Thread { jobs: Some(jobs), thread: Some(thread), path, cpu_seconds: None })
     }
 
     /// Hand step `time`'s grids over.
@@ -118,6 +121,12 @@ impl Hdf5Thread {
         self.jobs.is_some()
     }
 
+    /// The CPU time the writer thread took [s], once it has finished (`None` before, or where
+    /// /proc/thread-self/schedstat is not there to tell it).
+    pub fn cpu_seconds(&self) -> Option<f64> {
+        self.cpu_seconds
+    }
+
     /// Wait for the writer thread to finish what it was handed (and commit it).
     ///
     /// # Errors
@@ -140,7 +149,11 @@ impl Hdf5Thread {
 
     fn join(&mut self) -> Result<(), Error> {
         match self.thread.take().map(JoinHandle::join) {
-            None | Some(Ok(Ok(()))) => Ok(()),
+            None => Ok(()),
+            Some(Ok(Ok(cpu_seconds))) => {
+                self.cpu_seconds = cpu_seconds;
+                Ok(())
+            }
             Some(Ok(Err(e))) => Err(e),
             Some(Err(_)) => Err(self.stopped()),
         }
@@ -149,6 +162,14 @@ impl Hdf5Thread {
     fn stopped(&self) -> Error {
         Error::Write { path: self.path.clone(), source: std::io::Error::other("the HDF5 writer thread stopped") }
     }
+}
+
+/// The calling thread's CPU time so far [s]: the first field of /proc/thread-self/schedstat, in
+/// nanoseconds.
+fn thread_cpu_seconds() -> Option<f64> {
+    let stat = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
+    let nanoseconds: f64 = stat.split_whitespace().next()?.parse().ok()?;
+    Some(nanoseconds * 1e-9)
 }
 
 impl Drop for Hdf5Thread {

@@ -308,6 +308,7 @@ impl ResultWriter {
                 solver_stats: SolverStats::default(),
                 total_seconds: 0.0,
                 write_seconds: 0.0,
+                writer_thread_seconds: None,
             },
             units,
         };
@@ -388,6 +389,7 @@ impl ResultWriter {
         #[cfg(feature = "hdf5")]
         if let Some(h5) = &mut self.h5 {
             h5.finish()?;
+            self.summary.writer_thread_seconds = h5.cpu_seconds();
         }
         self.summary.status = if error.is_some() { "failed".into() } else { "completed".into() };
         self.summary.error = error.map(|e| e.to_string());

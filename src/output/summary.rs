@@ -40,6 +40,12 @@ pub struct RunSummary {
     pub total_seconds: f64,
     /// Time in the result writer: the field files, history, summary, report and plots.
     pub write_seconds: f64,
+    /// The CPU time of the thread that writes `results.h5` beside the run (compressing and
+    /// storing the fields, the history and the summary), where the system tells it: on a machine
+    /// whose cores the run keeps busy, about what writing adds to the run's wall time beyond
+    /// `write_seconds`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub writer_thread_seconds: Option<f64>,
 }
 
 /// The files that hold the fields of the kept steps.
