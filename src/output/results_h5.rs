@@ -52,7 +52,9 @@ use crate::error::Error;
 use crate::linsol::native::hdf5_chunk;
 use crate::model::file::SolidKind;
 use crate::model::UnitLabels;
-use hdf5::file::{CacheDecreaseMode, CacheIncreaseMode, FileSpaceStrategy, FlashIncreaseMode, MetadataCacheConfig};
+use hdf5::file::{
+    CacheDecreaseMode, CacheIncreaseMode, FileAccessBuilder, FileSpaceStrategy, FlashIncreaseMode, MetadataCacheConfig,
+};
 use hdf5::types::VarLenUnicode;
 use hdf5::{Dataset, Group, H5Type, Location};
 use std::cell::RefCell;
@@ -70,6 +72,11 @@ const SMALL_VALUES: usize = 512;
 /// The metadata cache's size: a step's metadata (its groups, datasets and chunk indices) stays in
 /// it until the step is flushed.
 const METADATA_CACHE_BYTES: usize = 32 << 20;
+/// Steps written between two openings of the file. Its metadata cache never evicts (crash
+/// safety), so it holds every object written since the file was opened, and HDF5 1.10 goes over
+/// all of the cache at every flush: without reopening, a run of 2000 steps spent most of its time
+/// in the flushes (docs/performance.md).
+const STEPS_PER_OPENING: usize = 32;
 /// Entries per chunk of a history dataset.
 const HISTORY_CHUNK: usize = 256;
 /// Deflate level 1: on a 10⁴-unknown pull-out the file is 0.5 % larger than at level 4 and written
@@ -93,7 +100,10 @@ pub struct HistoryTarget<'a> {
 pub struct Hdf5Results {
     path: PathBuf,
     xdmf: PathBuf,
-    file: hdf5::File,
+    /// The open file (`None` only when opening it again failed: `reopen`).
+    file: Option<hdf5::File>,
+    /// Steps written since the file was last opened.
+    opened_steps: usize,
     /// Deflate is available in the library: datasets are chunked and compressed.
     compress: bool,
     precision: FieldPrecision,
@@ -118,14 +128,15 @@ struct SoilCells {
     material: DataRef,
 }
 
-/// The history datasets, one entry per step appended.
+/// The history datasets, one entry per step appended, by their paths in the file (no handle
+/// stays open between steps: the file is closed and opened again, `STEPS_PER_OPENING`).
 struct History {
-    time: Dataset,
-    stage: Dataset,
-    stage_step: Dataset,
-    load_factor: Dataset,
+    time: String,
+    stage: String,
+    stage_step: String,
+    load_factor: String,
     /// Per target: displacement, reaction.
-    targets: Vec<(Dataset, Dataset)>,
+    targets: Vec<(String, String)>,
     len: usize,
 }
 
@@ -160,18 +171,8 @@ impl Hdf5Results {
         // (no evictions from the metadata cache between flushes), and space freed in the file is
         // never reused (a flushed object's old metadata blocks are never overwritten by a later
         // step's data)
-        let cache = MetadataCacheConfig {
-            evictions_enabled: false,
-            incr_mode: CacheIncreaseMode::Off,
-            flash_incr_mode: FlashIncreaseMode::Off,
-            decr_mode: CacheDecreaseMode::Off,
-            set_initial_size: true,
-            initial_size: METADATA_CACHE_BYTES,
-            max_size: METADATA_CACHE_BYTES,
-            ..MetadataCacheConfig::default()
-        };
         let file = hdf5::File::with_options()
-            .with_fapl(|p| p.libver_v18().mdc_config(&cache))
+            .with_fapl(file_access)
             .with_fcpl(|p| p.istore_k(ISTORE_K).obj_track_times(false).file_space_strategy(FileSpaceStrategy::None))
             .create(&path)
             .map_err(&fail)?;
@@ -201,14 +202,14 @@ impl Hdf5Results {
         };
 
         let group = new_group(&file, "history").map_err(&fail)?;
-        let series = |name: &str, unit: Option<&str>| -> hdf5::Result<Dataset> {
+        let series = |name: &str, unit: Option<&str>| -> hdf5::Result<String> {
             let d = writer.growing::<f64>(&group, name)?;
             if let Some(u) = unit {
                 text_attr(&d, "unit", u)?;
             }
-            Ok(d)
+            Ok(d.name())
         };
-        let counter = |name: &str| writer.growing::<u64>(&group, name);
+        let counter = |name: &str| writer.growing::<u64>(&group, name).map(|d| d.name());
         let history = (|| -> hdf5::Result<History> {
             let mut h = History {
                 time: counter("time")?,
@@ -235,15 +236,17 @@ impl Hdf5Results {
                 text_attr(&d, "unit", units.length)?;
                 let r = writer.growing::<f64>(&g, "reaction")?;
                 text_attr(&r, "unit", &units.force_per_width)?;
-                h.targets.push((d, r));
+                h.targets.push((d.name(), r.name()));
                 names.push(name);
             }
             Ok(h)
         })()
         .map_err(&fail)?;
-        let results = Hdf5Results {
+        drop(group);
+        let mut results = Hdf5Results {
             xdmf,
-            file,
+            file: Some(file),
+            opened_steps: 0,
             compress,
             precision,
             deflater,
@@ -276,14 +279,17 @@ impl Hdf5Results {
     /// # Errors
     /// [`Error::Write`] naming `results.h5`.
     pub fn append_history(&mut self, time: usize, record: &StepRecord, targets: &[(f64, f64)]) -> Result<(), Error> {
-        let h = &mut self.history;
+        let file = self.file()?;
+        let h = &self.history;
         let n = h.len + 1;
         let at = h.len..n;
-        let append = |d: &Dataset, v: f64| -> hdf5::Result<()> {
+        let append = |path: &str, v: f64| -> hdf5::Result<()> {
+            let d = file.dataset(path)?;
             d.resize(n)?;
             d.write_slice(&[v][..], at.clone())
         };
-        let count = |d: &Dataset, v: usize| -> hdf5::Result<()> {
+        let count = |path: &str, v: usize| -> hdf5::Result<()> {
+            let d = file.dataset(path)?;
             d.resize(n)?;
             d.write_slice(&[v as u64][..], at.clone())
         };
@@ -299,7 +305,7 @@ impl Hdf5Results {
             Ok(())
         })()
         .map_err(h5_error(&self.path))?;
-        h.len = n;
+        self.history.len = n;
         Ok(())
     }
 
@@ -316,7 +322,7 @@ impl Hdf5Results {
         grids: &StepGrids,
     ) -> Result<(), Error> {
         let fail = h5_error(&self.path);
-        let steps = self.file.group("steps").map_err(&fail)?;
+        let steps = self.file()?.group("steps").map_err(&fail)?;
         let group = new_group(&steps, &format!("{time:04}")).map_err(&fail)?;
         text_attr(&group, "stage", &record.stage).map_err(&fail)?;
         number_attr(&group, "stage_step", record.step as u64).map_err(&fail)?;
@@ -332,6 +338,7 @@ impl Hdf5Results {
         }
         let at = self.steps.partition_point(|s| s.time < time);
         self.steps.insert(at, kept);
+        self.opened_steps += 1;
         Ok(())
     }
 
@@ -340,11 +347,52 @@ impl Hdf5Results {
     ///
     /// # Errors
     /// [`Error::Write`] naming `results.h5` or `results.xdmf`.
-    pub fn commit(&self) -> Result<(), Error> {
-        self.file.flush().map_err(h5_error(&self.path))?;
+    pub fn commit(&mut self) -> Result<(), Error> {
+        self.flush()?;
+        self.write_index()
+    }
+
+    /// Make what was written so far durable without listing it in `results.xdmf` yet (the index
+    /// is rewritten at a later commit: `pace.rs`). Every `STEPS_PER_OPENING` steps the file is
+    /// then closed and opened again.
+    ///
+    /// # Errors
+    /// [`Error::Write`] naming `results.h5`.
+    pub fn flush(&mut self) -> Result<(), Error> {
+        self.file()?.flush().map_err(h5_error(&self.path))?;
         std::fs::File::open(&self.path)
             .and_then(|f| f.sync_data())
             .map_err(|source| Error::Write { path: self.path.clone(), source })?;
+        if self.opened_steps >= STEPS_PER_OPENING {
+            self.reopen()?;
+        }
+        Ok(())
+    }
+
+    /// Close the file (flushed) and open it again: its metadata cache, which never evicts, starts
+    /// empty.
+    fn reopen(&mut self) -> Result<(), Error> {
+        let fail = h5_error(&self.path);
+        if let Some(file) = self.file.take() {
+            // no other handle is open between steps (the history is held by its paths), so this
+            // closes the file
+            file.close().map_err(&fail)?;
+        }
+        let file = hdf5::File::with_options().with_fapl(file_access).open_rw(&self.path).map_err(&fail)?;
+        self.file = Some(file);
+        self.opened_steps = 0;
+        Ok(())
+    }
+
+    /// The open file.
+    fn file(&self) -> Result<&hdf5::File, Error> {
+        self.file.as_ref().ok_or_else(|| Error::Write {
+            path: self.path.clone(),
+            source: std::io::Error::other("the file could not be opened again after a step"),
+        })
+    }
+
+    fn write_index(&self) -> Result<(), Error> {
         write_atomically(&self.xdmf, xdmf::document(H5_NAME, &self.steps).as_bytes())
     }
 
@@ -406,7 +454,8 @@ impl Hdf5Results {
     /// The cells of the soil elements present in `grids` (one kind as a cells × nodes table,
     /// several as XDMF's `Mixed` list), their ids and materials, as `/mesh/soil/*-<k>`.
     fn soil_cells(&self, layout: &GridLayout, grids: &StepGrids) -> hdf5::Result<SoilCells> {
-        let group = self.file.group("mesh/soil")?;
+        let Some(file) = &self.file else { return Err("results.h5 is not open".into()) };
+        let group = file.group("mesh/soil")?;
         let k = self.soil_topologies.len() + 1;
         let present = &grids.soil.present;
         let w = self.writer();
@@ -468,7 +517,8 @@ impl Hdf5Results {
             Some((_, geometry, topology)) => (geometry.clone(), topology.clone()),
             None => {
                 let k = self.interface_meshes.len() + 1;
-                let mesh = self.file.group("mesh")?;
+                let Some(file) = &self.file else { return Err("results.h5 is not open".into()) };
+                let mesh = file.group("mesh")?;
                 let group = match mesh.group("interface") {
                     Ok(group) => group,
                     Err(_) => new_group(&mesh, "interface")?,
@@ -655,6 +705,22 @@ impl ArrayWriter<'_> {
         }
         builder.create(name)
     }
+}
+
+/// How `results.h5` is opened, created or opened again: the 1.8 format, and a metadata cache that
+/// never evicts (see `Hdf5Results::create`).
+fn file_access(p: &mut FileAccessBuilder) -> &mut FileAccessBuilder {
+    let cache = MetadataCacheConfig {
+        evictions_enabled: false,
+        incr_mode: CacheIncreaseMode::Off,
+        flash_incr_mode: FlashIncreaseMode::Off,
+        decr_mode: CacheDecreaseMode::Off,
+        set_initial_size: true,
+        initial_size: METADATA_CACHE_BYTES,
+        max_size: METADATA_CACHE_BYTES,
+        ..MetadataCacheConfig::default()
+    };
+    p.libver_v18().mdc_config(&cache)
 }
 
 /// A group of `parent`, without modification times.
