@@ -2,10 +2,12 @@
 //! compression and the writing of a step's fields overlap the next step's equilibrium iterations
 //! instead of adding to them.
 //!
-//! The run's thread hands each step's grids, its history entry, a commit, and the new
-//! `history.csv` and `summary.json` to the writer thread, which does them in order (see
-//! `results_h5.rs`: the index `results.xdmf` is rewritten only after the HDF5 file is flushed, so
-//! it lists complete steps only, whatever the moment the run is killed; the two files follow it).
+//! The run's thread hands each step's grids, its history entry and a commit to the writer thread,
+//! and at the steps where the files written whole are due (`pace.rs`) a commit with the index and
+//! the new `history.csv` and `summary.json`; the thread does them in order (see `results_h5.rs`:
+//! the index `results.xdmf` is rewritten only after the HDF5 file is flushed, so it lists complete
+//! steps only, whatever the moment the run is killed; the two files follow it). The index is
+//! written at the end whatever the pace.
 //! At most two steps wait at once: a run never holds more than a few steps' grids in memory. An
 //! error on the writer thread stops it; the run's thread gets the error at its next hand-over, or
 //! when it finishes.
@@ -16,9 +18,11 @@ use super::results_h5::Hdf5Results;
 use crate::analysis::StepRecord;
 use crate::error::Error;
 use std::path::PathBuf;
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::mpsc::{sync_channel, SyncSender};
 use std::sync::Arc;
 use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
 
 /// Steps that may wait for the writer thread.
 const WAITING: usize = 2;
@@ -40,7 +44,10 @@ enum Job {
         record: StepRecord,
         targets: Vec<(f64, f64)>,
     },
-    Commit,
+    /// The file made durable; with `index`, its steps listed in `results.xdmf` too.
+    Commit {
+        index: bool,
+    },
     /// A whole file of the output folder replaced (`write_atomically`).
     File {
         path: PathBuf,
@@ -55,6 +62,8 @@ pub struct Hdf5Thread {
     path: PathBuf,
     /// The thread's CPU time when it ended [s], where the system tells it.
     cpu_seconds: Option<f64>,
+    /// What the last commit with the index took on the thread [ns] (flush, sync, `results.xdmf`).
+    last_index: Arc<AtomicU64>,
 }
 
 impl Hdf5Thread {
@@ -65,6 +74,8 @@ impl Hdf5Thread {
     pub fn start(mut results: Hdf5Results, layout: Arc<GridLayout>) -> Result<Self, Error> {
         let path = results.path().to_path_buf();
         let (jobs, inbox) = sync_channel::<Job>(WAITING * JOBS_PER_STEP);
+        let index_nanoseconds = Arc::new(AtomicU64::new(0));
+        let last_index = Arc::clone(&index_nanoseconds);
         let thread = std::thread::Builder::new()
             .name("results.h5".into())
             .spawn(move || {
@@ -72,7 +83,13 @@ impl Hdf5Thread {
                     match job {
                         Job::Fields { time, record, grids } => results.write_step(time, &record, &layout, &grids)?,
                         Job::History { time, record, targets } => results.append_history(time, &record, &targets)?,
-                        Job::Commit => results.commit()?,
+                        Job::Commit { index: false } => results.flush()?,
+                        Job::Commit { index: true } => {
+                            let started = Instant::now();
+                            results.commit()?;
+                            let took = u64::try_from(started.elapsed().as_nanos()).unwrap_or(u64::MAX);
+                            index_nanoseconds.store(took, Ordering::Relaxed);
+                        }
                         Job::File { path, bytes } => write_atomically(&path, &bytes)?,
                     }
                 }
@@ -80,7 +97,7 @@ impl Hdf5Thread {
                 Ok(thread_cpu_seconds())
             })
             .map_err(|source| Error::Write { path: path.clone(), source })?;
-        Ok(Hdf5Thread { jobs: Some(jobs), thread: Some(thread), path, cpu_seconds: None })
+        Ok(Hdf5Thread { jobs: Some(jobs), thread: Some(thread), path, cpu_seconds: None, last_index })
     }
 
     /// Hand step `time`'s grids over.
@@ -99,12 +116,18 @@ impl Hdf5Thread {
         self.send(Job::History { time, record: record.clone(), targets: targets.to_vec() })
     }
 
-    /// Ask for what was handed over so far to be made durable and listed in `results.xdmf`.
+    /// Ask for what was handed over so far to be made durable and, with `index`, listed in
+    /// `results.xdmf`.
     ///
     /// # Errors
     /// The writer thread's error, if it has stopped.
-    pub fn commit(&mut self) -> Result<(), Error> {
-        self.send(Job::Commit)
+    pub fn commit(&mut self, index: bool) -> Result<(), Error> {
+        self.send(Job::Commit { index })
+    }
+
+    /// What the last commit with the index took on the writer thread (zero before the first).
+    pub fn last_index_time(&self) -> Duration {
+        Duration::from_nanos(self.last_index.load(Ordering::Relaxed))
     }
 
     /// Hand over a whole file to replace at `path` (written atomically and synced, as

@@ -6,8 +6,10 @@
 //! place, so a crash never leaves a truncated file under a final name; `results.h5` is written in
 //! place, flushed after every step, and only `results.xdmf`, rewritten atomically after the flush,
 //! says which of its steps are complete (see `results_h5.rs`). Each step's files are written as
-//! soon as the step converges (a step held back by `--keep` as soon as it proves to be kept), and
-//! the summary is rewritten after every step: completed steps are never lost.
+//! soon as the step converges (a step held back by `--keep` as soon as it proves to be kept):
+//! completed steps are never lost. The files written whole that grow with the run (the index, the
+//! history and the summary) are rewritten at every step while that is cheap, less often once it
+//! is not (`pace.rs`), and always at the end.
 
 pub mod checkpoints;
 #[cfg(feature = "hdf5")]
@@ -19,6 +21,7 @@ pub mod grids;
 pub mod hdf5_thread;
 pub mod kept_steps;
 pub mod options;
+mod pace;
 pub mod plots;
 pub mod report;
 #[cfg(feature = "hdf5")]
@@ -179,6 +182,8 @@ pub struct ResultWriter {
     h5: Option<hdf5_thread::Hdf5Thread>,
     /// Steps held back until they prove to be kept (`--keep events` or `N`).
     held: HeldSteps,
+    /// When the files written whole (the index, history.csv, summary.json) are next rewritten.
+    pace: pace::Pace,
     /// Each stage's last load factor, where its last step shows by it (not a strength-reduction
     /// stage's).
     stage_ends: Vec<Option<f64>>,
@@ -244,6 +249,7 @@ impl ResultWriter {
             #[cfg(feature = "hdf5")]
             h5: None,
             held: HeldSteps::new(targets.len()),
+            pace: pace::Pace::default(),
             stage_ends: model
                 .stages
                 .iter()
@@ -397,7 +403,7 @@ impl ResultWriter {
             self.summary.solver_stats = s;
         }
         self.summary.total_seconds = seconds;
-        self.write_summary()?;
+        self.rewrite_growing_files()?;
         let figures = self.figures().write()?;
         let report = report::markdown(model, &self.summary, &self.history, &self.units, &figures);
         write_atomically(&self.out.join("report.md"), report.as_bytes())?;
@@ -592,7 +598,12 @@ impl StepSink for ResultWriter {
             fs.stage, fs.value, fs.reduced
         ));
         self.summary.factors_of_safety.push(fs.clone());
-        self.write_summary()
+        // at once, whatever the pace (the index first, so the summary is not ahead of it)
+        #[cfg(feature = "hdf5")]
+        if let Some(h5) = self.h5.as_mut().filter(|h5| h5.running()) {
+            h5.commit(true)?;
+        }
+        self.rewrite_growing_files()
     }
 
     fn step_done(&mut self, results: &StepResults, record: &StepRecord, stats: &SolverStats) -> Result<(), Error> {
@@ -693,12 +704,43 @@ impl StepSink for ResultWriter {
             }
         }
         self.held.latest = held;
+        // the files written whole, at this step if they are due
+        let rewrite = self.pace.due();
         #[cfg(feature = "hdf5")]
         if let Some(h5) = &mut self.h5 {
             h5.append_history(time, record, &values)?;
-            h5.commit()?;
+            h5.commit(rewrite)?;
         }
+        self.profiles.push(StepProfile {
+            label: format!("{} step {}", record.stage, record.step),
+            reinforcements: self.reinforcements.iter().map(|(name, nodes)| profile(name, nodes, results)).collect(),
+        });
+        self.summary.steps.push(record.clone());
+        self.summary.solver_stats = stats.clone();
+        self.summary.write_seconds += started.elapsed().as_secs_f64();
+        if !rewrite {
+            return Ok(());
+        }
+        let rewriting = std::time::Instant::now();
+        self.rewrite_growing_files()?;
+        let mut took = rewriting.elapsed();
+        self.summary.write_seconds += took.as_secs_f64();
+        #[cfg(feature = "hdf5")]
+        if let Some(h5) = &self.h5 {
+            took += h5.last_index_time();
+        }
+        self.pace.rewritten(took);
+        Ok(())
+    }
+}
 
+impl ResultWriter {
+    /// Rewrite the files written whole that grow with the run: the `.pvd` collection,
+    /// `history.csv` and `summary.json` (`results.xdmf` with the commit: `h5.commit(true)`).
+    fn rewrite_growing_files(&mut self) -> Result<(), Error> {
+        if let Some(vtk) = &self.vtk {
+            vtk.write_collection()?;
+        }
         let u = &self.units;
         let header = vec![
             "stage".to_string(),
@@ -711,18 +753,9 @@ impl StepSink for ResultWriter {
         ];
         let csv = csv_bytes(&header, self.history.iter().cloned());
         self.replace_file("history.csv", csv)?;
-        self.profiles.push(StepProfile {
-            label: format!("{} step {}", record.stage, record.step),
-            reinforcements: self.reinforcements.iter().map(|(name, nodes)| profile(name, nodes, results)).collect(),
-        });
-        self.summary.steps.push(record.clone());
-        self.summary.solver_stats = stats.clone();
-        self.summary.write_seconds += started.elapsed().as_secs_f64();
         self.write_summary()
     }
-}
 
-impl ResultWriter {
     /// What the figures are drawn from: the history of each prescribed target, the profiles.
     fn figures(&self) -> figures::Figures<'_> {
         let curves = self

@@ -28,7 +28,8 @@ impl VtkWriter {
         VtkWriter { dir: out.join("vtk"), pvd: out.join("results.pvd"), steps: Vec::new() }
     }
 
-    /// Write step number `time` (1, 2, …) and rewrite the `.pvd`.
+    /// Write step number `time` (1, 2, …); the `.pvd` lists it from its next rewrite
+    /// (`write_collection`).
     ///
     /// # Errors
     /// [`Error::Write`] naming the file that could not be written.
@@ -58,6 +59,15 @@ impl VtkWriter {
         let entry = (time, names.map(|n| format!("vtk/{n}")));
         let at = self.steps.partition_point(|(t, _)| *t < time);
         self.steps.insert(at, entry);
+        Ok(())
+    }
+
+    /// Rewrite the `.pvd` collection over the steps written so far (at the steps where the files
+    /// written whole are due, and at the end of the run: `pace.rs`).
+    ///
+    /// # Errors
+    /// [`Error::Write`] naming the `.pvd`.
+    pub fn write_collection(&self) -> Result<(), Error> {
         write_atomically(&self.pvd, self.collection().as_bytes())
     }
 
