@@ -24,15 +24,25 @@ pub(super) struct StepProfile {
     pub reinforcements: Vec<ReinforcementProfile>,
 }
 
-pub(super) fn profile(name: &str, nodes: &std::collections::HashSet<u64>, r: &StepResults) -> ReinforcementProfile {
+/// A reinforcement interface's nodes: their ids, and their places in the mesh's node list (in
+/// that list's order), which are those of `StepResults::displacements`.
+pub(super) struct ReinforcementNodes {
+    pub name: String,
+    pub ids: std::collections::HashSet<u64>,
+    pub indices: Vec<usize>,
+}
+
+pub(super) fn profile(nodes: &ReinforcementNodes, r: &StepResults) -> ReinforcementProfile {
+    let name = nodes.name.as_str();
     let mut tension: Vec<(f64, f64)> = r
         .bar_forces
         .iter()
-        .filter(|b| nodes.contains(&b.nodes[0]) && nodes.contains(&b.nodes[1]))
+        .filter(|b| nodes.ids.contains(&b.nodes[0]) && nodes.ids.contains(&b.nodes[1]))
         .map(|b| (b.midpoint[0], b.axial_force))
         .collect();
+    // (the reinforcement's own nodes, not every node of the mesh looked up in the set)
     let mut displacement: Vec<(f64, f64)> =
-        r.displacements.iter().filter(|(id, _, _)| nodes.contains(id)).map(|(_, x, u)| (x[0], u[0])).collect();
+        nodes.indices.iter().filter_map(|&n| r.displacements.get(n)).map(|(_, x, u)| (x[0], u[0])).collect();
     let upper = |p: &&crate::analysis::results::InterfacePointResult| {
         p.interface == name && (p.face == "upper" || p.face == "embedded") && p.state != "outside"
     };

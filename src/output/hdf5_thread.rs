@@ -62,8 +62,9 @@ pub struct Hdf5Thread {
     path: PathBuf,
     /// The thread's CPU time when it ended [s], where the system tells it.
     cpu_seconds: Option<f64>,
-    /// What the last commit with the index took on the thread [ns] (flush, sync, `results.xdmf`).
-    last_index: Arc<AtomicU64>,
+    /// The time the thread spent on the files written whole (`results.xdmf` and the files handed
+    /// over) since it was last taken [ns].
+    rewrites: Arc<AtomicU64>,
 }
 
 impl Hdf5Thread {
@@ -74,8 +75,8 @@ impl Hdf5Thread {
     pub fn start(mut results: Hdf5Results, layout: Arc<GridLayout>) -> Result<Self, Error> {
         let path = results.path().to_path_buf();
         let (jobs, inbox) = sync_channel::<Job>(WAITING * JOBS_PER_STEP);
-        let index_nanoseconds = Arc::new(AtomicU64::new(0));
-        let last_index = Arc::clone(&index_nanoseconds);
+        let rewrites = Arc::new(AtomicU64::new(0));
+        let rewriting = Arc::clone(&rewrites);
         let thread = std::thread::Builder::new()
             .name("results.h5".into())
             .spawn(move || {
@@ -85,19 +86,23 @@ impl Hdf5Thread {
                         Job::History { time, record, targets } => results.append_history(time, &record, &targets)?,
                         Job::Commit { index: false } => results.flush()?,
                         Job::Commit { index: true } => {
+                            results.flush()?;
                             let started = Instant::now();
-                            results.commit()?;
-                            let took = u64::try_from(started.elapsed().as_nanos()).unwrap_or(u64::MAX);
-                            index_nanoseconds.store(took, Ordering::Relaxed);
+                            results.write_index()?;
+                            rewriting.fetch_add(nanoseconds(started), Ordering::Relaxed);
                         }
-                        Job::File { path, bytes } => write_atomically(&path, &bytes)?,
+                        Job::File { path, bytes } => {
+                            let started = Instant::now();
+                            write_atomically(&path, &bytes)?;
+                            rewriting.fetch_add(nanoseconds(started), Ordering::Relaxed);
+                        }
                     }
                 }
                 results.commit()?;
                 Ok(thread_cpu_seconds())
             })
             .map_err(|source| Error::Write { path: path.clone(), source })?;
-        Ok(Hdf5Thread { jobs: Some(jobs), thread: Some(thread), path, cpu_seconds: None, last_index })
+        Ok(Hdf5Thread { jobs: Some(jobs), thread: Some(thread), path, cpu_seconds: None, rewrites })
     }
 
     /// Hand step `time`'s grids over.
@@ -125,9 +130,10 @@ impl Hdf5Thread {
         self.send(Job::Commit { index })
     }
 
-    /// What the last commit with the index took on the writer thread (zero before the first).
-    pub fn last_index_time(&self) -> Duration {
-        Duration::from_nanos(self.last_index.load(Ordering::Relaxed))
+    /// The time the writer thread spent writing `results.xdmf` and the files handed over since
+    /// the last call (the rewrites it has done so far; `pace.rs`).
+    pub fn take_rewrite_time(&self) -> Duration {
+        Duration::from_nanos(self.rewrites.swap(0, Ordering::Relaxed))
     }
 
     /// Hand over a whole file to replace at `path` (written atomically and synced, as
@@ -185,6 +191,11 @@ impl Hdf5Thread {
     fn stopped(&self) -> Error {
         Error::Write { path: self.path.clone(), source: std::io::Error::other("the HDF5 writer thread stopped") }
     }
+}
+
+/// The time since `started` [ns].
+fn nanoseconds(started: Instant) -> u64 {
+    u64::try_from(started.elapsed().as_nanos()).unwrap_or(u64::MAX)
 }
 
 /// The calling thread's CPU time so far [s]: the first field of /proc/thread-self/schedstat, in

@@ -169,8 +169,8 @@ pub struct ResultWriter {
     profiles: Vec<StepProfile>,
     /// Steps worth plotting: where slip starts, where everything slides.
     marked_steps: Vec<usize>,
-    /// Each reinforcement interface and the ids of its nodes.
-    reinforcements: Vec<(String, std::collections::HashSet<u64>)>,
+    /// Each reinforcement interface and its nodes.
+    reinforcements: Vec<figures::ReinforcementNodes>,
     /// The field files asked for.
     options: OutputOptions,
     /// The grids' fixed parts, for the `.vtu` and HDF5 files.
@@ -272,10 +272,14 @@ impl ResultWriter {
                 .iter()
                 .filter_map(|i| {
                     model.node_sets.get(&format!("{}.reinforcement", i.name)).map(|nodes| {
-                        (
-                            i.name.clone(),
-                            nodes.iter().map(|&n| model.mesh.node_id(n)).collect::<std::collections::HashSet<u64>>(),
-                        )
+                        let mut indices = nodes.clone();
+                        indices.sort_unstable();
+                        indices.dedup();
+                        figures::ReinforcementNodes {
+                            name: i.name.clone(),
+                            ids: indices.iter().map(|&n| model.mesh.node_id(n)).collect(),
+                            indices,
+                        }
                     })
                 })
                 .collect(),
@@ -713,7 +717,7 @@ impl StepSink for ResultWriter {
         }
         self.profiles.push(StepProfile {
             label: format!("{} step {}", record.stage, record.step),
-            reinforcements: self.reinforcements.iter().map(|(name, nodes)| profile(name, nodes, results)).collect(),
+            reinforcements: self.reinforcements.iter().map(|nodes| profile(nodes, results)).collect(),
         });
         self.summary.steps.push(record.clone());
         self.summary.solver_stats = stats.clone();
@@ -723,12 +727,11 @@ impl StepSink for ResultWriter {
         }
         let rewriting = std::time::Instant::now();
         self.rewrite_growing_files()?;
-        let mut took = rewriting.elapsed();
+        let took = rewriting.elapsed();
         self.summary.write_seconds += took.as_secs_f64();
+        // (with the writer thread's time on the same files, as far as it has got)
         #[cfg(feature = "hdf5")]
-        if let Some(h5) = &self.h5 {
-            took += h5.last_index_time();
-        }
+        let took = took + self.h5.as_ref().map_or(std::time::Duration::ZERO, |h5| h5.take_rewrite_time());
         self.pace.rewritten(took);
         Ok(())
     }
@@ -778,7 +781,7 @@ impl ResultWriter {
             curves,
             profiles: &self.profiles,
             marked_steps: &self.marked_steps,
-            reinforcements: self.reinforcements.iter().map(|(name, _)| name.as_str()).collect(),
+            reinforcements: self.reinforcements.iter().map(|nodes| nodes.name.as_str()).collect(),
         }
     }
 }

@@ -392,7 +392,12 @@ impl Hdf5Results {
         })
     }
 
-    fn write_index(&self) -> Result<(), Error> {
+    /// List the kept steps written so far in `results.xdmf` (rewritten atomically): after a
+    /// [`flush`](Self::flush), so that it lists complete steps only.
+    ///
+    /// # Errors
+    /// [`Error::Write`] naming `results.xdmf`.
+    pub fn write_index(&self) -> Result<(), Error> {
         write_atomically(&self.xdmf, xdmf::document(H5_NAME, &self.steps).as_bytes())
     }
 
