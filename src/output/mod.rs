@@ -18,6 +18,8 @@ mod figures;
 mod folder;
 pub mod grids;
 #[cfg(feature = "hdf5")]
+mod h5_arrays;
+#[cfg(feature = "hdf5")]
 pub mod hdf5_thread;
 pub mod kept_steps;
 pub mod options;

@@ -45,18 +45,18 @@
 use super::chunk_deflate::ChunkDeflater;
 use super::folder::write_atomically;
 use super::grids::{GridLayout, StepGrids};
+use super::h5_arrays::{new_group, number_attr, text_attr, ArrayWriter, DEFLATE_LEVEL};
 use super::options::FieldPrecision;
-use super::xdmf::{self, Center, DataRef, Field, GridStep, KeptStep, NumberType, Topology, TopologyType};
+use super::xdmf::{self, Center, DataRef, Field, GridStep, KeptStep, Topology, TopologyType};
 use crate::analysis::StepRecord;
 use crate::error::Error;
-use crate::linsol::native::hdf5_chunk;
 use crate::model::file::SolidKind;
 use crate::model::UnitLabels;
 use hdf5::file::{
     CacheDecreaseMode, CacheIncreaseMode, FileAccessBuilder, FileSpaceStrategy, FlashIncreaseMode, MetadataCacheConfig,
 };
 use hdf5::types::VarLenUnicode;
-use hdf5::{Dataset, Group, H5Type, Location};
+use hdf5::Group;
 use std::cell::RefCell;
 use std::path::{Path, PathBuf};
 
@@ -64,11 +64,6 @@ use std::path::{Path, PathBuf};
 pub const H5_NAME: &str = "results.h5";
 pub const XDMF_NAME: &str = "results.xdmf";
 
-/// Values per chunk of a field dataset (256 KiB of f64).
-const CHUNK_VALUES: usize = 32_768;
-/// Below this many values a dataset is stored whole and uncompressed: a chunk index and a filter
-/// pipeline would cost more than they save.
-const SMALL_VALUES: usize = 512;
 /// The metadata cache's size: a step's metadata (its groups, datasets and chunk indices) stays in
 /// it until the step is flushed.
 const METADATA_CACHE_BYTES: usize = 32 << 20;
@@ -77,16 +72,6 @@ const METADATA_CACHE_BYTES: usize = 32 << 20;
 /// all of the cache at every flush: without reopening, a run of 2000 steps spent most of its time
 /// in the flushes (docs/performance.md).
 const STEPS_PER_OPENING: usize = 32;
-/// Entries per chunk of a history dataset.
-const HISTORY_CHUNK: usize = 256;
-/// Deflate level 1: on a 10⁴-unknown pull-out the file is 0.5 % larger than at level 4 and written
-/// in two thirds of the time. The step fields go through the shuffle filter first, each column of a
-/// table (a tensor's component, a displacement's direction) chunked apart, so that the filter sees
-/// one smoothly varying quantity at a time: on the same run's soil fields (docs/performance.md)
-/// 12.1 MB instead of 14.7 in double precision and 5.5 instead of 7.4 in single. Mesh tables and
-/// the history are compressed without it (whole rows a chunk: there the filter made the file
-/// larger).
-const DEFLATE_LEVEL: u8 = 1;
 /// Half the entries of a chunk-index node (HDF5's default is 32, for datasets of many chunks).
 const ISTORE_K: u32 = 4;
 
@@ -279,33 +264,23 @@ impl Hdf5Results {
     /// # Errors
     /// [`Error::Write`] naming `results.h5`.
     pub fn append_history(&mut self, time: usize, record: &StepRecord, targets: &[(f64, f64)]) -> Result<(), Error> {
-        let file = self.file()?;
+        let fail = h5_error(&self.path);
+        let file = self.file().map_err(&fail)?;
         let h = &self.history;
-        let n = h.len + 1;
-        let at = h.len..n;
-        let append = |path: &str, v: f64| -> hdf5::Result<()> {
-            let d = file.dataset(path)?;
-            d.resize(n)?;
-            d.write_slice(&[v][..], at.clone())
-        };
-        let count = |path: &str, v: usize| -> hdf5::Result<()> {
-            let d = file.dataset(path)?;
-            d.resize(n)?;
-            d.write_slice(&[v as u64][..], at.clone())
-        };
+        let n = h.len;
         (|| -> hdf5::Result<()> {
-            count(&h.time, time)?;
-            count(&h.stage, record.stage_index + 1)?;
-            count(&h.stage_step, record.step)?;
-            append(&h.load_factor, record.load_factor)?;
+            append_entry(file, &h.time, n, time as u64)?;
+            append_entry(file, &h.stage, n, record.stage_index as u64 + 1)?;
+            append_entry(file, &h.stage_step, n, record.step as u64)?;
+            append_entry(file, &h.load_factor, n, record.load_factor)?;
             for ((d, r), (u, f)) in h.targets.iter().zip(targets) {
-                append(d, *u)?;
-                append(r, *f)?;
+                append_entry(file, d, n, *u)?;
+                append_entry(file, r, n, *f)?;
             }
             Ok(())
         })()
-        .map_err(h5_error(&self.path))?;
-        self.history.len = n;
+        .map_err(&fail)?;
+        self.history.len = n + 1;
         Ok(())
     }
 
@@ -322,7 +297,7 @@ impl Hdf5Results {
         grids: &StepGrids,
     ) -> Result<(), Error> {
         let fail = h5_error(&self.path);
-        let steps = self.file()?.group("steps").map_err(&fail)?;
+        let steps = self.file().and_then(|f| f.group("steps")).map_err(&fail)?;
         let group = new_group(&steps, &format!("{time:04}")).map_err(&fail)?;
         text_attr(&group, "stage", &record.stage).map_err(&fail)?;
         number_attr(&group, "stage_step", record.step as u64).map_err(&fail)?;
@@ -359,7 +334,7 @@ impl Hdf5Results {
     /// # Errors
     /// [`Error::Write`] naming `results.h5`.
     pub fn flush(&mut self) -> Result<(), Error> {
-        self.file()?.flush().map_err(h5_error(&self.path))?;
+        self.file().and_then(|f| f.flush()).map_err(h5_error(&self.path))?;
         std::fs::File::open(&self.path)
             .and_then(|f| f.sync_data())
             .map_err(|source| Error::Write { path: self.path.clone(), source })?;
@@ -385,11 +360,8 @@ impl Hdf5Results {
     }
 
     /// The open file.
-    fn file(&self) -> Result<&hdf5::File, Error> {
-        self.file.as_ref().ok_or_else(|| Error::Write {
-            path: self.path.clone(),
-            source: std::io::Error::other("the file could not be opened again after a step"),
-        })
+    fn file(&self) -> hdf5::Result<&hdf5::File> {
+        self.file.as_ref().ok_or_else(|| "results.h5 could not be opened again after a step".into())
     }
 
     /// List the kept steps written so far in `results.xdmf` (rewritten atomically): after a
@@ -459,8 +431,7 @@ impl Hdf5Results {
     /// The cells of the soil elements present in `grids` (one kind as a cells × nodes table,
     /// several as XDMF's `Mixed` list), their ids and materials, as `/mesh/soil/*-<k>`.
     fn soil_cells(&self, layout: &GridLayout, grids: &StepGrids) -> hdf5::Result<SoilCells> {
-        let Some(file) = &self.file else { return Err("results.h5 is not open".into()) };
-        let group = file.group("mesh/soil")?;
+        let group = self.file()?.group("mesh/soil")?;
         let k = self.soil_topologies.len() + 1;
         let present = &grids.soil.present;
         let w = self.writer();
@@ -522,8 +493,7 @@ impl Hdf5Results {
             Some((_, geometry, topology)) => (geometry.clone(), topology.clone()),
             None => {
                 let k = self.interface_meshes.len() + 1;
-                let Some(file) = &self.file else { return Err("results.h5 is not open".into()) };
-                let mesh = file.group("mesh")?;
+                let mesh = self.file()?.group("mesh")?;
                 let group = match mesh.group("interface") {
                     Ok(group) => group,
                     Err(_) => new_group(&mesh, "interface")?,
@@ -565,153 +535,6 @@ impl Hdf5Results {
     }
 }
 
-/// A numeric type of a dataset, with its XDMF number type.
-trait Stored: H5Type + Copy {
-    const NUMBER: NumberType;
-}
-impl Stored for f64 {
-    const NUMBER: NumberType = NumberType::Float8;
-}
-impl Stored for f32 {
-    const NUMBER: NumberType = NumberType::Float4;
-}
-impl Stored for i32 {
-    const NUMBER: NumberType = NumberType::Int4;
-}
-impl Stored for i64 {
-    const NUMBER: NumberType = NumberType::Int8;
-}
-impl Stored for u64 {
-    const NUMBER: NumberType = NumberType::UInt8;
-}
-
-/// Writes datasets, chunked and compressed when the library can.
-struct ArrayWriter<'a> {
-    compress: bool,
-    precision: FieldPrecision,
-    deflater: &'a RefCell<ChunkDeflater>,
-}
-
-impl ArrayWriter<'_> {
-    /// `data` as a `rows × columns` dataset `name` of `group` (one-dimensional for one column),
-    /// with its `unit` as an attribute; when compressed, whole rows a chunk (the mesh, the ids,
-    /// the states; the step fields go through [`ArrayWriter::field`]).
-    fn table<T: Stored>(
-        &self,
-        group: &Group,
-        name: &str,
-        data: &[T],
-        columns: usize,
-        unit: Option<&str>,
-    ) -> hdf5::Result<DataRef> {
-        let rows = data.len() / columns.max(1);
-        let dims = if columns == 1 { vec![rows] } else { vec![rows, columns] };
-        let mut builder = group.new_dataset::<T>().shape(dims.clone());
-        if self.compress && data.len() >= SMALL_VALUES {
-            let chunk = match columns {
-                1 => vec![rows.min(CHUNK_VALUES)],
-                _ => vec![rows.min((CHUNK_VALUES / columns).max(1)), columns],
-            };
-            builder = builder.chunk(chunk).deflate(DEFLATE_LEVEL);
-        }
-        let dataset = builder.create(name)?;
-        if rows > 0 {
-            dataset.write_raw(data)?;
-        }
-        if let Some(u) = unit {
-            text_attr(&dataset, "unit", u)?;
-        }
-        Ok(DataRef { path: dataset.name(), dims, number: T::NUMBER })
-    }
-
-    /// A step field: `data` as a `rows × columns` dataset in the run's [`FieldPrecision`]. When
-    /// compressed, each column is cut into chunks of its own (as many as `CHUNK_VALUES` makes
-    /// needed, of equal rows), each filtered here and stored whole (`chunk_deflate.rs`), an
-    /// all-zero chunk not at all.
-    fn field(
-        &self,
-        group: &Group,
-        name: &str,
-        data: &[f64],
-        columns: usize,
-        unit: Option<&str>,
-    ) -> hdf5::Result<DataRef> {
-        let compressed = self.compress && data.len() >= SMALL_VALUES;
-        match (self.precision, compressed) {
-            (FieldPrecision::Double, true) => {
-                self.chunked_field::<f64, 8>(group, name, data, columns, unit, f64::to_ne_bytes)
-            }
-            // each value rounded to the nearest single-precision number
-            (FieldPrecision::Single, true) => {
-                self.chunked_field::<f32, 4>(group, name, data, columns, unit, |v| (v as f32).to_ne_bytes())
-            }
-            // uncompressed (no deflate in the library) or too small to chunk
-            (FieldPrecision::Double, false) => self.table(group, name, data, columns, unit),
-            (FieldPrecision::Single, false) => {
-                let single: Vec<f32> = data.iter().map(|&v| v as f32).collect();
-                self.table(group, name, &single, columns, unit)
-            }
-        }
-    }
-
-    /// `data` (`rows × columns`, `S` bytes a value in the dataset's type `T` as `bytes` gives
-    /// them) as a dataset behind the shuffle and deflate filters whose chunks are filtered here.
-    fn chunked_field<T: Stored + Default, const S: usize>(
-        &self,
-        group: &Group,
-        name: &str,
-        data: &[f64],
-        columns: usize,
-        unit: Option<&str>,
-        bytes: impl Fn(f64) -> [u8; S],
-    ) -> hdf5::Result<DataRef> {
-        let columns = columns.max(1);
-        let rows = data.len() / columns;
-        let chunk_rows = rows.div_ceil(rows.div_ceil(CHUNK_VALUES).max(1)).max(1);
-        let (dims, chunk) =
-            if columns == 1 { (vec![rows], vec![chunk_rows]) } else { (vec![rows, columns], vec![chunk_rows, 1]) };
-        let dataset = group
-            .new_dataset::<T>()
-            .shape(dims.clone())
-            .chunk(chunk)
-            .shuffle()
-            .deflate(DEFLATE_LEVEL)
-            .fill_value(T::default())
-            .create(name)?;
-        // the table's columns one after another, each value as the dataset stores it, in one
-        // pass over the rows (a column read alone from the rows would touch every row's cache
-        // line once a column)
-        let mut by_column = vec![[0u8; S]; rows * columns];
-        for (row, values) in data.chunks_exact(columns).enumerate() {
-            for (column, &v) in values.iter().enumerate() {
-                by_column[column * rows + row] = bytes(v);
-            }
-        }
-        let mut deflater = self.deflater.borrow_mut();
-        for (column, values) in by_column.chunks_exact(rows.max(1)).enumerate() {
-            for (k, chunk) in values.chunks(chunk_rows).enumerate() {
-                let start = k * chunk_rows;
-                let Some(deflated) = deflater.deflate(chunk, chunk_rows)? else { continue };
-                let offset = if columns == 1 { vec![start as u64] } else { vec![start as u64, column as u64] };
-                hdf5_chunk::write_chunk(&dataset, &offset, deflated)?;
-            }
-        }
-        if let Some(u) = unit {
-            text_attr(&dataset, "unit", u)?;
-        }
-        Ok(DataRef { path: dataset.name(), dims, number: T::NUMBER })
-    }
-
-    /// An empty one-dimensional dataset that grows by one entry a step.
-    fn growing<T: Stored>(&self, group: &Group, name: &str) -> hdf5::Result<Dataset> {
-        let mut builder = group.new_dataset::<T>().shape(0..).chunk(HISTORY_CHUNK);
-        if self.compress {
-            builder = builder.deflate(DEFLATE_LEVEL);
-        }
-        builder.create(name)
-    }
-}
-
 /// How `results.h5` is opened, created or opened again: the 1.8 format, and a metadata cache that
 /// never evicts (see `Hdf5Results::create`).
 fn file_access(p: &mut FileAccessBuilder) -> &mut FileAccessBuilder {
@@ -728,79 +551,15 @@ fn file_access(p: &mut FileAccessBuilder) -> &mut FileAccessBuilder {
     p.libver_v18().mdc_config(&cache)
 }
 
-/// A group of `parent`, without modification times.
-fn new_group(parent: &Group, name: &str) -> hdf5::Result<Group> {
-    parent.create_group_builder().obj_track_times(false).create(name)
-}
-
-fn text_attr(location: &Location, name: &str, value: &str) -> hdf5::Result<()> {
-    let text: VarLenUnicode = value.replace('\0', "").parse().map_err(|e| hdf5::Error::from(format!("{e}")))?;
-    location.new_attr::<VarLenUnicode>().create(name)?.write_scalar(&text)
-}
-
-fn number_attr<T: H5Type>(location: &Location, name: &str, value: T) -> hdf5::Result<()> {
-    location.new_attr::<T>().create(name)?.write_scalar(&value)
+/// Entry `at` (the dataset's length so far) appended to the growing dataset at `path`.
+fn append_entry<T: hdf5::H5Type>(file: &hdf5::File, path: &str, at: usize, value: T) -> hdf5::Result<()> {
+    let dataset = file.dataset(path)?;
+    dataset.resize(at + 1)?;
+    dataset.write_slice(&[value][..], at..at + 1)
 }
 
 /// The error of a failed HDF5 call on `path`.
 fn h5_error(path: &Path) -> impl Fn(hdf5::Error) -> Error {
     let path = path.to_path_buf();
     move |e| Error::Write { path: path.clone(), source: std::io::Error::other(format!("HDF5: {e}")) }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// A field of several chunks a column, the last one short, with a column of zeros, written by
-    /// `ArrayWriter::field` (chunks shuffled and deflated by geoslip, stored directly) and read
-    /// back through libhdf5's own filter pipeline (its shuffle and its zlib inflate).
-    #[test]
-    fn a_field_of_many_chunks_reads_back_through_hdf5s_filters_value_for_value() {
-        if !hdf5::filters::deflate_available() {
-            return;
-        }
-        let dir = tempfile::tempdir().unwrap();
-        let file = hdf5::File::create(dir.path().join("field.h5")).unwrap();
-        let deflater = RefCell::new(ChunkDeflater::new(DEFLATE_LEVEL).unwrap());
-        let rows = 2 * CHUNK_VALUES + 1001;
-        // x: smooth with noise in the low bits; y: zeros, one negative zero; z: zeros
-        let data: Vec<f64> = (0..rows)
-            .flat_map(|i| {
-                let x = (i as f64 * 1e-3).sin() * 1e-2 + (i as f64 * 7.77).fract() * 1e-9;
-                let y = if i == 5 { -0.0 } else { 0.0 };
-                [x, y, 0.0]
-            })
-            .collect();
-        for precision in [FieldPrecision::Single, FieldPrecision::Double] {
-            let w = ArrayWriter { compress: true, precision, deflater: &deflater };
-            let name = format!("{precision:?}");
-            let data_ref = w.field(&file, &name, &data, 3, Some("m")).unwrap();
-            assert_eq!(data_ref.dims, vec![rows, 3]);
-            let dataset = file.dataset(&name).unwrap();
-            let chunk = dataset.chunk().unwrap();
-            assert_eq!(chunk[1], 1, "a column a chunk");
-            assert!(chunk[0] <= CHUNK_VALUES && rows.div_ceil(chunk[0]) == 3, "{chunk:?}");
-            // x's three chunks and y's first (its negative zero); the other zero chunks not stored
-            assert_eq!(dataset.num_chunks(), Some(4));
-            let filters = dataset.filters();
-            assert!(filters.iter().any(|f| matches!(f, hdf5::filters::Filter::Shuffle)), "{filters:?}");
-            assert!(filters.iter().any(|f| matches!(f, hdf5::filters::Filter::Deflate(_))), "{filters:?}");
-            match precision {
-                FieldPrecision::Single => {
-                    let back: Vec<f32> = dataset.read_raw().unwrap();
-                    assert_eq!(back.len(), data.len());
-                    for (i, (a, b)) in back.iter().zip(&data).enumerate() {
-                        assert!(a.to_bits() == (*b as f32).to_bits(), "[{}][{}]: {a} against {b}", i / 3, i % 3);
-                    }
-                }
-                FieldPrecision::Double => {
-                    let back: Vec<f64> = dataset.read_raw().unwrap();
-                    for (i, (a, b)) in back.iter().zip(&data).enumerate() {
-                        assert!(a.to_bits() == b.to_bits(), "[{}][{}]: {a} against {b}", i / 3, i % 3);
-                    }
-                }
-            }
-        }
-    }
 }
