@@ -344,7 +344,7 @@ pub fn support(set: &str, fix: &[Direction]) -> Support {
     Support { node: None, nodes: None, set: Some(set.into()), fix: fix.to_vec() }
 }
 
-/// A direct-shear box as closed-forms.md §4's Coulomb block: a 1 m × 0.5 m weightless quad4 block (4 × 2 elements,
+/// A direct-shear box as docs/verification.md §4's Coulomb block: a 1 m × 0.5 m weightless quad4 block (4 × 2 elements,
 /// E = 10 MPa, ν = 0.3) on a rigid base from x = −0.5 to 1.5 m (its nodes fixed, the block's base the
 /// slave line of interface `base` with `law`); stage "surcharge" applies `q` on top with every
 /// block node held in x, stage "shear" moves every block node `d` in x by `load_factors`. The node

@@ -1,12 +1,13 @@
 //! Passive bearing of a geogrid's transverse members in a rigid pull-out box.
 //!
-//! Reference: Jewell, Milligan, Sarsby & Dubois (1984), "Interaction between soil and geogrids",
-//! Proc. Symposium on Polymer Grid Reinforcement, Thomas Telford, pp. 18–30 (and Jewell 1996, CIRIA
-//! SP123, §6.3): a member of thickness B bears σb on a fraction αb of the width, with
-//! σb/σn = exp((π/2 + φ′)·tan φ′)·tan²(π/4 + φ′/2) in general shear and exp((π/2)·tan φ′)·tan(π/4 + φ′/2)
-//! by punching; a grid with members every S resists with (number of members)·αb·B·σb, and with
-//! friction on both faces 2·σn·tan δ per unit length besides (Jewell's pull-out resistance, the
-//! two added).
+//! Reference: docs/verification.md §8. Jewell, Milligan, Sarsby & Dubois (1984), "Interaction
+//! between soil and geogrids", Proc. Symposium on Polymer Grid Reinforcement, Thomas Telford,
+//! pp. 18–30, as quoted by Jewell (1996), CIRIA SP123, §6.3, and Palmeira (2009): a member of
+//! thickness B bears σb on a fraction αb of the width, with φ′ the soil's peak angle
+//! σb/σn = exp(π·tan φ′)·tan²(π/4 + φ′/2) in general shear (the upper bound) and
+//! exp((π/2 + φ′)·tan φ′)·tan(π/4 + φ′/2) by punching (the lower bound); a grid with members every
+//! S resists with (number of members)·αb·B·σb, and with friction on both faces 2·(c + σn·tan δ)
+//! per unit length besides (Jewell's pull-out resistance, the two added).
 //!
 //! Model: the pull-out box of `meshgen::PullOutBox` made rigid (E = 10 GPa, weightless), 1.0 m long,
 //! 0.4 m high, 20 × 8 quad4 (h = 0.05 m); a grid embedded in the continuous soil (its σn the soil's,
@@ -17,7 +18,12 @@
 //! members are then still in the box. Goal: the head force equals 15 members' bearing force to
 //! 1e-6 (bearing only: a Coulomb law with c = 0, φ = 0 carries no friction); with friction φ = 25°
 //! on both faces the force is that plus 2·q·tan 25°·0.75 m, and the report's summary puts the
-//! bearing part apart; the punching bound gives less than general shear by the formulas' ratio.
+//! bearing part apart; with cohesion as well it is 2·0.75 m·(c + q·tan 25°) plus the bearing; the
+//! punching bound gives less than general shear by the formulas' ratio.
+//!
+//! Numbers (docs/verification.md §8): at φ′ = 32°, σb/σn = 23.1768 (general shear) and 6.82484
+//! (punching), a ratio of 3.39595; one member αb·B·σb = 3.70828 and 1.09197 kN/m, 15 members
+//! 55.6243 and 16.3796 kN/m; friction at 25° 27.9785 kN/m; with c = 5 kPa as well 35.4785 kN/m.
 
 mod common;
 
@@ -35,17 +41,30 @@ const PULL: f64 = 0.05;
 /// Members left in the box after the pull: (0.8 − 0.05)/0.05.
 const MEMBERS_IN: f64 = 15.0;
 
-fn general_shear_ratio(phi_deg: f64) -> f64 {
+// Jewell et al.'s (1984) bounds of σb/σn at the soil's peak angle φ′ in degrees, written here
+// apart from `geoslip::interface::bearing` (so that a wrong formula in either place fails): with
+// Kp = tan²(45° + φ′/2) = (1 + sin φ′)/(1 − sin φ′), the general-shear (upper) bound is
+// e^(π·tan φ′)·Kp, the Prandtl–Reissner Nq, and the punching (lower) bound is
+// e^((π/2 + φ′)·tan φ′)·√Kp. `the_tests_bounds_are_the_published_values` pins them to the
+// numbers of docs/verification.md §8.
+
+fn jewell_general_shear(phi_deg: f64) -> f64 {
     let phi = phi_deg.to_radians();
-    ((std::f64::consts::FRAC_PI_2 + phi) * phi.tan()).exp() * (std::f64::consts::FRAC_PI_4 + phi / 2.0).tan().powi(2)
+    let kp = (1.0 + phi.sin()) / (1.0 - phi.sin());
+    (std::f64::consts::PI * phi.tan()).exp() * kp
 }
 
-fn punching_shear_ratio(phi_deg: f64) -> f64 {
+fn jewell_punching(phi_deg: f64) -> f64 {
     let phi = phi_deg.to_radians();
-    (std::f64::consts::FRAC_PI_2 * phi.tan()).exp() * (std::f64::consts::FRAC_PI_4 + phi / 2.0).tan()
+    let kp = (1.0 + phi.sin()) / (1.0 - phi.sin());
+    ((std::f64::consts::FRAC_PI_2 + phi) * phi.tan()).exp() * kp.sqrt()
 }
 
 fn rigid_box(friction_angle: f64, formula: BearingFormula) -> Model {
+    rigid_box_with_cohesion(0.0, friction_angle, formula)
+}
+
+fn rigid_box_with_cohesion(cohesion: f64, friction_angle: f64, formula: BearingFormula) -> Model {
     let mut file = PullOutBox {
         length: 1.0,
         height: 0.4,
@@ -56,7 +75,7 @@ fn rigid_box(friction_angle: f64, formula: BearingFormula) -> Model {
         poissons_ratio: 0.3,
         unit_weight: 0.0,
         axial_stiffness: 1.0e9,
-        law: ShearLawSpec::Coulomb { shear_stiffness: 2.0e4, cohesion: 0.0, friction_angle },
+        law: ShearLawSpec::Coulomb { shear_stiffness: 2.0e4, cohesion, friction_angle },
         surcharge: Q,
         pull: PULL,
         steps: 25,
@@ -83,12 +102,25 @@ fn member_force(ratio: f64) -> f64 {
 }
 
 #[test]
+fn the_tests_bounds_are_the_published_values() {
+    // docs/verification.md §8, computed there with python3 and written to 6 significant figures
+    // (good to 5e-6 relative, hence 1e-5): at 30°, 18.4011 (general shear) and 5.80376 (punching);
+    // at the tests' 32°, 23.1768 and 6.82484
+    for (phi, general, punching) in [(30.0, 18.4011, 5.80376), (PHI_SOIL, 23.1768, 6.82484)] {
+        let g = jewell_general_shear(phi);
+        assert!(common::relative_error(g, general) < 1e-5, "general shear at {phi}°: {g} against {general}");
+        let p = jewell_punching(phi);
+        assert!(common::relative_error(p, punching) < 1e-5, "punching at {phi}°: {p} against {punching}");
+    }
+}
+
+#[test]
 fn a_bearing_only_grid_resists_with_its_members_bearing_force() {
     let model = rigid_box(0.0, BearingFormula::GeneralShear);
     for backend in [Backend::Dense, Backend::Faer] {
         let c = common::run(&model, backend);
         let forces = common::head_forces(&model, &c, "grid.head");
-        let expected = MEMBERS_IN * member_force(general_shear_ratio(PHI_SOIL));
+        let expected = MEMBERS_IN * member_force(jewell_general_shear(PHI_SOIL));
         let last = *forces.last().unwrap();
         assert!(common::relative_error(last, expected) < 1e-6, "{backend:?}: {last} against {expected}");
         // the bearing is all of the resistance, and the points report it as such
@@ -97,10 +129,11 @@ fn a_bearing_only_grid_resists_with_its_members_bearing_force() {
             assert!((p.tau - p.bearing).abs() < 1e-9 * p.bearing.abs(), "{p:?}");
         }
         // mobilised linearly: at the first step's 2 mm (half of δb) half the full bearing on the
-        // 0.8 m less the 2 mm already out; the soil's own shear strain (about τ·H/G = 1 µm) takes
-        // some 5e-4 of that slip while the members are not fully mobilised
+        // 0.8 m less the 2 mm already out, 29.5921 kN/m; the soil's own strain (it moves about 1 µm
+        // on the grid's line) takes some 4e-4 of that slip while the members are not fully
+        // mobilised (docs/verification.md §8), hence 1e-3
         let first = forces[0];
-        let half = 0.5 * (0.8 - 0.002) / S * member_force(general_shear_ratio(PHI_SOIL));
+        let half = 0.5 * (0.8 - 0.002) / S * member_force(jewell_general_shear(PHI_SOIL));
         assert!(common::relative_error(first, half) < 1e-3, "{backend:?}: {first} against {half}");
     }
 }
@@ -111,7 +144,7 @@ fn friction_and_bearing_add_and_are_reported_apart() {
     let model = rigid_box(phi, BearingFormula::GeneralShear);
     let c = common::run(&model, Backend::Faer);
     let last = *common::head_forces(&model, &c, "grid.head").last().unwrap();
-    let bearing = MEMBERS_IN * member_force(general_shear_ratio(PHI_SOIL));
+    let bearing = MEMBERS_IN * member_force(jewell_general_shear(PHI_SOIL));
     let friction = 2.0 * Q * phi.to_radians().tan() * (0.8 - PULL);
     assert!(common::relative_error(last, bearing + friction) < 1e-6, "{last} against {bearing} + {friction}");
     let (record, _) = c.steps.last().unwrap();
@@ -127,8 +160,32 @@ fn the_punching_bound_is_below_general_shear_by_the_formulas_ratio() {
     let punching = rigid_box(0.0, BearingFormula::PunchingShear);
     let fg = *common::head_forces(&general, &common::run(&general, Backend::Faer), "grid.head").last().unwrap();
     let fp = *common::head_forces(&punching, &common::run(&punching, Backend::Faer), "grid.head").last().unwrap();
-    let expected = MEMBERS_IN * member_force(punching_shear_ratio(PHI_SOIL));
+    let expected = MEMBERS_IN * member_force(jewell_punching(PHI_SOIL));
     assert!(common::relative_error(fp, expected) < 1e-6, "{fp} against {expected}");
-    let ratio = general_shear_ratio(PHI_SOIL) / punching_shear_ratio(PHI_SOIL);
+    let ratio = jewell_general_shear(PHI_SOIL) / jewell_punching(PHI_SOIL);
     assert!(common::relative_error(fg / fp, ratio) < 1e-6, "{} against {ratio}", fg / fp);
+}
+
+#[test]
+fn cohesion_friction_and_punching_bearing_add_as_the_closed_form_splits_them() {
+    // docs/verification.md §8, the embedded grid once every point in the box slides and every
+    // member bears fully: F = 2·L_in·(c + q·tan φ) + (L_in/S)·αb·B·R·q with L_in = 0.8 − 0.05 m,
+    // c = 5 kPa, φ = 25°, R the punching bound at φ′ = 32°: 35.4785 + 16.3796 = 51.8581 kN/m;
+    // to 1e-6 as the other tests at full mobilisation (every point slides and every member bears
+    // its full σb, so the soil's strain does not enter)
+    let cohesion = 5.0_f64;
+    let phi = 25.0_f64;
+    let model = rigid_box_with_cohesion(cohesion, phi, BearingFormula::PunchingShear);
+    let c = common::run(&model, Backend::Faer);
+    let last = *common::head_forces(&model, &c, "grid.head").last().unwrap();
+    let l_in = 0.8 - PULL;
+    let friction = 2.0 * l_in * (cohesion + Q * phi.to_radians().tan());
+    let bearing = l_in / S * ALPHA_B * B * jewell_punching(PHI_SOIL) * Q;
+    assert!(common::relative_error(last, friction + bearing) < 1e-6, "{last} against {friction} + {bearing}");
+    // the same against the section's number, to its 6 significant figures
+    assert!(common::relative_error(last, 51.8581) < 1e-5, "{last} against 51.8581");
+    let (record, _) = c.steps.last().unwrap();
+    let balance = record.balance.iter().find(|b| b.interface == "grid").expect("the grid's balance");
+    let carried = balance.bearing_force.expect("the bearing part");
+    assert!(common::relative_error(carried[0].abs(), bearing) < 1e-6, "{carried:?} against {bearing}");
 }

@@ -1,7 +1,7 @@
 //! Calibration of a peak–residual law (peak, softening to a residual) from three direct-shear
 //! curves.
 //!
-//! Reference: shared/reference/closed-forms.md §4, the Coulomb block: a soil block on a rigid base
+//! Reference: docs/verification.md §4, the Coulomb block: a soil block on a rigid base
 //! with the tangential displacement d applied to every node carries F = τ(d)·A, τ the law at slip d
 //! under σn = N/A. The measured curves are made by geoslip's finite-element model of that block (a
 //! 1 m × 0.5 m block, 4 × 2 quad4, on a rigid base (`common::block_on_rigid_base`), q = 50, 100, 200 kPa, d to 25 mm in 100 steps)

@@ -1,6 +1,6 @@
 //! Calibration of Ks and φ from three pull-out curves.
 //!
-//! Reference: shared/reference/closed-forms.md §1–2, the progressive slip of an elastic–perfectly
+//! Reference: docs/verification.md §1–2, the progressive slip of an elastic–perfectly
 //! plastic interface along an extensible reinforcement on a rigid soil at constant σn (with the
 //! large-slip form: what has left the soil carries no shear). The measured curves are made by
 //! geoslip's finite-element pull-out box: a 1.0 m × 0.2 m block of very stiff soil (E = 10⁷ kPa,

@@ -2,7 +2,7 @@
 //! annotated example, and the files a run leaves behind.
 //!
 //! Reference: docs/model-format.md (the output files and their unit-carrying headers) and
-//! shared/reference/closed-forms.md §5: in the annotated example's first stage, the oedometric
+//! docs/verification.md §5: in the annotated example's first stage, the oedometric
 //! vertical stress at the grid is q + γz = 20 + 19·0.2 = 23.8 kPa on both faces.
 
 use std::path::Path;

@@ -1,6 +1,6 @@
 //! A soil block sliding on a rigid base (the Coulomb block).
 //!
-//! Reference: shared/reference/closed-forms.md §4: with the tangential displacement d applied to
+//! Reference: docs/verification.md §4: with the tangential displacement d applied to
 //! every node of the block, the base shear is F = min(Ks·A·d, c·A + μ·N), with A the contact length
 //! (per metre width), N the normal force and μ = tan φ.
 //!

@@ -1,6 +1,6 @@
 //! A Coulomb interface driven through cycles of slip: the dissipated energy per cycle.
 //!
-//! Reference: shared/reference/closed-forms.md §4 (the Coulomb block: a soil block on a rigid base
+//! Reference: docs/verification.md §4 (the Coulomb block: a soil block on a rigid base
 //! with the tangential displacement applied to every node, F = τ(d)·A) with the elastic–perfectly
 //! plastic law unloaded and reloaded: between ±a the τ–d loop is a parallelogram of height 2τp and
 //! width 2(a − τp/Ks), so each cycle dissipates W = 4·τp·A·(a − τp/Ks) (e.g. Kramer 1996, §5.4's

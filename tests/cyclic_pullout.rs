@@ -3,7 +3,7 @@
 //!
 //! Reference: the dense reference solver (every backend must give its answers). At ±5 mm the grid
 //! does not slide over its whole length (first slip at u_y = σn·tan φ/Ks = 1.2 mm, the whole length
-//! would slide at about 16 mm: closed-forms.md §2), so no closed form gives the loop; it must close
+//! would slide at about 16 mm: docs/verification.md §2), so no closed form gives the loop; it must close
 //! on itself (the same force at each return after the first cycle) and resist the motion both ways.
 //!
 //! Model: the example (1.0 m × 0.6 m box, 20 × 6 quad4, the grid over 0.8 m, EA = 1000 kN/m,

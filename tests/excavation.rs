@@ -1,6 +1,6 @@
 //! Excavation of the top layer of level ground: one-dimensional unloading.
 //!
-//! Reference: one-dimensional (oedometric) unloading of an elastic layer (closed-forms.md §5, with
+//! Reference: one-dimensional (oedometric) unloading of an elastic layer (docs/verification.md §5, with
 //! M = E(1−ν)/((1+ν)(1−2ν))): removing a layer of thickness t and unit weight γ from level ground of
 //! height H unloads the rest by Δσv = γt everywhere, so the remaining ground heaves by
 //! u(y) = γ·t·y/M at height y, and σ′v = γ(H − y) − γt, σ′h = K0·γ(H − y) − ν/(1 − ν)·γt.

@@ -1,6 +1,6 @@
 //! The extrapolated first iterate (`extrapolation = "linear"`): the same answers in fewer iterations.
 //!
-//! Reference: shared/reference/closed-forms.md §2 (progressive slip of an elastic bar on an
+//! Reference: docs/verification.md §2 (progressive slip of an elastic bar on an
 //! elastic–perfectly plastic interface, e.g. Sobhi & Wu 1996): with the slip front at s_f from the
 //! head, P(s_f) = n_f·τmax·[s_f + tanh(α(L−s_f))/α] and
 //! u_head(s_f) = u_y + T_e·s_f/EA + n_f·τmax·s_f²/(2·EA), T_e = (n_f·τmax/α)·tanh(α(L−s_f)).

@@ -1,7 +1,7 @@
 //! A reinforcement drawn from a grip in front of the soil: its free length touches no soil, and its
 //! embedded length is exact at the face.
 //!
-//! Reference: closed-forms.md §2, large slip: once every embedded point slides under a normal
+//! Reference: docs/verification.md §2, large slip: once every embedded point slides under a normal
 //! stress σn, a two-face reinforcement carries n_f·τmax·(L − u), L its embedded length and u the
 //! slip (a nearly rigid bar: the head's displacement), τmax = σn·tan φ; the free length in front of
 //! the face adds nothing. Pulled on until its tail passes the face, it carries n_f·τmax·(L − u)

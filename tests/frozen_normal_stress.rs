@@ -2,7 +2,7 @@
 //!
 //! Reference: the definition (DESIGN §1: with σn frozen, the shear law of each point uses the σn it
 //! had when the stage started) and vertical equilibrium of a laterally confined, weightless box
-//! under a surcharge q (closed-forms.md §5): after the surcharge the mean σn on the reinforcement is
+//! under a surcharge q (docs/verification.md §5): after the surcharge the mean σn on the reinforcement is
 //! q. A stage that froze σn before the surcharge would freeze 0 and leave the faces the cohesion
 //! alone: that run must say so.
 //!

@@ -4,7 +4,7 @@
 //! solves.
 //!
 //! Reference: Gmsh reference manual, §10.1 "MSH file format" (versions 4.1 and 2.2); and
-//! shared/reference/closed-forms.md §5: in a frictionless rigid box under a uniform pressure q, the
+//! docs/verification.md §5: in a frictionless rigid box under a uniform pressure q, the
 //! vertical stress at depth h is oedometric, σv = q + γ·h, so the normal stress on the geogrid at
 //! h = 0.3 m is 50 + 18·0.3 = 55.4 kPa on both faces once the box is confined.
 //!

@@ -3,7 +3,7 @@
 //! Reference: statics of the reinforcement as a free body: the forces applied to its nodes (the
 //! reactions of the held grip and the loads) equal the forces its interface carries, at every step;
 //! once every point slides on a Coulomb face with c = 0, the pull is tan φ times the normal force
-//! (closed-forms.md §4, the Coulomb block on a rigid base).
+//! (docs/verification.md §4, the Coulomb block on a rigid base).
 //!
 //! ```text
 //!          ↓ 1 kN/m on each of the 11 grid nodes

@@ -1,6 +1,6 @@
 //! A reinforcement in any orientation: the elastic shear-lag pull-out on a rigid bed, turned.
 //!
-//! Reference: shared/reference/closed-forms.md §1: head stiffness K = EA·α·tanh(αL),
+//! Reference: docs/verification.md §1: head stiffness K = EA·α·tanh(αL),
 //! α = sqrt(n_f·Ks/EA). The closed form does not know the direction of the bar: a geosynthetic on a
 //! slope (or in a vertical anchor trench) must give the same K as a horizontal one.
 //!

@@ -5,7 +5,7 @@
 //! in Geotechnical Engineering: Theory (1999) §3.7; Craig's Soil Mechanics, 8th ed. (2012) §3.4):
 //! σv = Σγᵢ·Δzᵢ (saturated unit weight below the water table), p = γw·(z − z_w),
 //! σ′v = σv − p, σ′h = K0·σ′v; and one-dimensional compression under self-weight
-//! (shared/reference/closed-forms.md §5): σ′h = ν/(1 − ν)·σ′v.
+//! (docs/verification.md §5): σ′h = ν/(1 − ν)·σ′v.
 //!
 //! Goal: the K0 procedure gives σ′v = γz (with layers and water) exactly at the Gauss points of
 //! quad4 and quad8 elements, in equilibrium with the soil's weight (no displacement); gravity

@@ -7,7 +7,7 @@
 //! residual to the same tolerance and their answers must agree to it; the dense reference (Gauss
 //! elimination with complete pivoting, which never condenses) is the independent solver. The
 //! sliding force: a grid of embedded length L under a frozen normal stress q on two faces carries
-//! T = 2·q·tan φ·L once every point slides (shared/reference/closed-forms.md §2, the fully plastic
+//! T = 2·q·tan φ·L once every point slides (docs/verification.md §2, the fully plastic
 //! limit of the progressive-slip solution).
 //!
 //! Model: the generated pull-out box (1 m × 0.6 m, 40 × 12 quad4, grid over 0.8 m at mid-height,

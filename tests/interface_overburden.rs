@@ -1,6 +1,6 @@
 //! The normal multipliers of a reinforcement carry the overburden exactly.
 //!
-//! Reference: shared/reference/closed-forms.md §5, the plane-strain oedometer: in a laterally
+//! Reference: docs/verification.md §5, the plane-strain oedometer: in a laterally
 //! confined column (frictionless rigid walls, fixed base) under a surcharge q and self-weight γ, the
 //! vertical stress at depth z is σv = q + γ·z. A reinforcement at depth z, held to the soil by
 //! Lagrange multipliers, must therefore carry σn = λ/ℓ = q + γ·z at every point of both faces,

@@ -1,7 +1,7 @@
 //! The laboratory pull-out box, run as a user runs it: one command from the model that names the
 //! `.geo` file, three airbag pressures, and the series report with the apparent friction angle.
 //!
-//! Reference: shared/reference/closed-forms.md §2: once the whole embedded length slides, the
+//! Reference: docs/verification.md §2: once the whole embedded length slides, the
 //! pull-out force of a reinforcement with n_f = 2 faces is P_ult = 2·τmax·L, τmax = c + σn·tan φ_i;
 //! and §5: in the frictionless box σn on the grid is q + γ·h before the pull (h = 0.3 m of sand,
 //! γ = 18 kN/m³). The box can only lower the peak below 2·(q + γh)·tan φ_i·L: the soil relaxes at

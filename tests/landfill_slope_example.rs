@@ -2,7 +2,7 @@
 //! lies between the two-wedge values at the critical interface's residual and peak friction.
 //!
 //! Reference: Koerner & Soong, Geotextiles and Geomembranes 16 (1998) 1–36, the two-wedge method
-//! (shared/reference/closed-forms.md §7). The cover of examples/landfill-slope slides on its
+//! (docs/verification.md §7). The cover of examples/landfill-slope slides on its
 //! geotextile / geomembrane interface (peak 24°, residual 16°): with no geosynthetic tension the
 //! two-wedge FS is 1.457 at peak and 0.991 at residual. Construction takes that interface past its
 //! peak where it slides, and the anchored geotextile and geogrid add a little: goal, FS between the

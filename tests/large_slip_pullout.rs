@@ -1,6 +1,6 @@
 //! Large slip: a nearly rigid reinforcement pulled out through the front face.
 //!
-//! Reference: shared/reference/closed-forms.md §2, "Large slip: a bar pulled out through the front
+//! Reference: docs/verification.md §2, "Large slip: a bar pulled out through the front
 //! face". Once every point slides, only the embedded length L − u resists:
 //! P = n_f·τmax·(L − u). A small-slip program stays at n_f·τmax·L, which is wrong.
 //!

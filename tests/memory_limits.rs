@@ -3,7 +3,7 @@
 //!
 //! Reference: MUMPS 5.5 user guide, INFOG(17) and INFOG(27) (the analysis's estimate of the
 //! factorisation's memory in core and out of core, summed over the processes) and ICNTL(22); and
-//! shared/reference/closed-forms.md §5: in the annotated example's first stage the oedometric σn on
+//! docs/verification.md §5: in the annotated example's first stage the oedometric σn on
 //! the grid is q + γz = 20 + 19·0.2 = 23.8 kPa, out of core as in core.
 
 use std::path::Path;

@@ -5,7 +5,7 @@
 //! has neither Scotch nor METIS) the MPI run must give the sequential answers, linear solves to
 //! 1e-10 relative and nonlinear runs to the convergence tolerance. The linear case is the annotated
 //! example's first stage, whose oedometric σn on the grid is q + γz = 23.8 kPa
-//! (closed-forms.md §5); the nonlinear case is the paper's pull-out in clay (slip, re-association,
+//! (docs/verification.md §5); the nonlinear case is the paper's pull-out in clay (slip, re-association,
 //! release).
 //!
 //! Built only with `--features mpi` (scripts/test-all.sh: `cargo test --features mpi --target-dir

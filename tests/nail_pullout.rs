@@ -1,7 +1,7 @@
 //! A nail pulled out of rigid ground, axisymmetric: the shear-lag closed form with the shaft's
 //! circumference as the perimeter, and the fully sliding ultimate.
 //!
-//! Reference: shared/reference/closed-forms.md §1 (the shear-lag solution of a bar on elastic
+//! Reference: docs/verification.md §1 (the shear-lag solution of a bar on elastic
 //! springs; a nail or anchor shaft is the same with the perimeter 2πr in place of n_f per metre
 //! width, e.g. Randolph & Wroth 1978 for piles): with λ = √(2πr·Ks/EA), the head stiffness is
 //! K = EA·λ·tanh(λL) and the tail moves P/(EA·λ·sinh λL); a shaft sliding over its whole length at

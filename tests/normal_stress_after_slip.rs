@@ -1,6 +1,6 @@
 //! Normal stress along a reinforcement that has slid two and a half elements.
 //!
-//! Reference: vertical equilibrium of a laterally confined box (closed-forms.md §5): with a
+//! Reference: vertical equilibrium of a laterally confined box (docs/verification.md §5): with a
 //! frictionless-walled box under a surcharge q and a weightless soil, the mean normal stress on the
 //! reinforcement is q. After the reinforcement slides, its points no longer face soil nodes: each
 //! slave point is tied to an interpolated master point (segment re-association), and the nodal

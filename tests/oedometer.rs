@@ -1,7 +1,7 @@
 //! Plane-strain oedometer: a laterally confined soil column under a surcharge and under its own
 //! weight.
 //!
-//! Reference: shared/reference/closed-forms.md §5 (one-dimensional compression, e.g. Davis &
+//! Reference: docs/verification.md §5 (one-dimensional compression, e.g. Davis &
 //! Selvadurai, Elasticity and Geomechanics, 1996, ch. 4):
 //! - settlement s = q·H·(1+ν)(1−2ν) / (E(1−ν)), lateral stress σh = ν·q/(1−ν);
 //! - self-weight: top settlement γH²/(2M), M = E(1−ν)/((1+ν)(1−2ν)).
@@ -145,7 +145,7 @@ fn oedometer_self_weight_exact_at_nodes_for_quad4_and_quadratic_elements() {
         let s = self_weight_top_settlement(kind);
         assert!(common::relative_error(s, exact) < 1e-8, "{kind:?}: {s} vs {exact}");
     }
-    // tri3 columns are only approximate (closed-forms.md: off by 1–3 %)
+    // tri3 columns are only approximate (docs/verification.md §5: off by 1–3 %)
     let s = self_weight_top_settlement(SolidKind::Tri3);
     assert!(common::relative_error(s, exact) < 0.05, "tri3: {s} vs {exact}");
 }

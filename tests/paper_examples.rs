@@ -3,7 +3,7 @@
 //! (a) The reinforced soil block of Fig. 4 and Table 1: after the 2 kPa traction and the 1 m pull,
 //!     at every station the soil node above, the reinforcement node and the soil node below it is
 //!     tied to have the same vertical displacement "to prevent overlapping of the materials" — to
-//!     solver precision here. Before the pull the block is an oedometer (closed-forms.md §5): the
+//!     solver precision here. Before the pull the block is an oedometer (docs/verification.md §5): the
 //!     settlement at the reinforcement, 1 m above the base, is q·y/M = 2·1/53.85 = 0.0371 m, the
 //!     paper's order (0.0358–0.0362 m).
 //! (b) The pull-out test in clay of Figs. 7–10: the front of the reinforcement slips first (the paper:

@@ -3,7 +3,7 @@
 //! are those of a run that re-analyses at every re-association.
 //!
 //! Reference: issue #6's target, at most 1 + (slip ÷ reserved window) analyses per stage, and
-//! shared/reference/closed-forms.md §2, "Large slip": once every point slides, the pull-out force
+//! docs/verification.md §2, "Large slip": once every point slides, the pull-out force
 //! is P = n_f·τmax·(L − u). The box: L = 0.8 m embedded in a 1 m long, 0.6 m high soil block of 40 × 6
 //! quad4 elements (h = 0.025 m), a nearly inextensible grid (EA = 10⁶ kN/m), Coulomb interface
 //! (c = 0, φ = 30°) under q = 50 kPa (σn = q: no self-weight is applied), pulled 0.1 m = 4 h in 20

@@ -1,7 +1,7 @@
 //! Peak then residual: the strength drops from τp to τr once the peak is passed (the paper's
 //! Fig. 2).
 //!
-//! Reference: shared/reference/closed-forms.md §3. With a residual zone of length s_f from the head,
+//! Reference: docs/verification.md §3. With a residual zone of length s_f from the head,
 //! P(s_f) = n_f·τr·s_f + (n_f·τp/α)·tanh(α(L − s_f)); its maximum, when cosh(αL) > sqrt(τp/τr), is at
 //! s* = L − arccosh(sqrt(τp/τr))/α: P_max = n_f·τr·s* + (n_f·τp/α)·sqrt(1 − τr/τp). After the peak
 //! the response snaps back; under displacement control it drops to the residual n_f·τr·L.

@@ -1,6 +1,6 @@
 //! Progressive slip of an elastic reinforcement on an elastic–perfectly plastic interface.
 //!
-//! Reference: shared/reference/closed-forms.md §2 (the shear-lag bar with a slip zone growing from the
+//! Reference: docs/verification.md §2 (the shear-lag bar with a slip zone growing from the
 //! head; e.g. Sobhi & Wu 1996). With the slip front at s_f from the head,
 //! P(s_f) = n_f·τmax·[s_f + tanh(α(L−s_f))/α] and
 //! u_head(s_f) = u_y + T_e·s_f/EA + n_f·τmax·s_f²/(2·EA), T_e = (n_f·τmax/α)·tanh(α(L−s_f)).

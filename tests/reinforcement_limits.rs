@@ -1,7 +1,7 @@
 //! Reinforcement limits: a tension-only geogrid pushed instead of pulled, and a reinforcement that
 //! ruptures before it pulls out.
 //!
-//! Reference: statics of a two-node bar on interface springs (closed-forms.md §1–2 setting: rigid
+//! Reference: statics of a two-node bar on interface springs (docs/verification.md §1–2 setting: rigid
 //! soil, n_f = 2 faces, lumped springs Ks·ℓ with ℓ = h/2 at the head).
 //! - Tension-only: pushed by u at its head, the grid carries no compression, so only the head point's
 //!   springs resist: P = n_f·Ks·(h/2)·u.

@@ -1,6 +1,6 @@
 //! Elastic shear-lag pull-out of a reinforcement on a rigid bed.
 //!
-//! Reference: shared/reference/closed-forms.md §1 (the shear-lag solution of a bar on elastic
+//! Reference: docs/verification.md §1 (the shear-lag solution of a bar on elastic
 //! springs, e.g. Abramento & Whittle 1995; Chan, Yi & Scott 1993 use the same Ks idealisation):
 //! T(x) = P·sinh(α(L−x))/sinh(αL), u(x) = P·cosh(α(L−x))/(EA·α·sinh αL), α = sqrt(n_f·Ks/EA),
 //! head stiffness K = EA·α·tanh(αL).

@@ -2,7 +2,7 @@
 //!
 //! Reference: one-dimensional compression of a layered fill built in stages (the classical
 //! embankment-settlement analysis, e.g. Potts & Zdravković, Finite Element Analysis in
-//! Geotechnical Engineering: Application (2001) §1.6 on simulating construction; closed-forms.md
+//! Geotechnical Engineering: Application (2001) §1.6 on simulating construction; docs/verification.md
 //! §5 for the constrained modulus M = E(1−ν)/((1+ν)(1−2ν))).
 //!
 //! With lift tops y₁ < y₂ < … < y_n and σⱼ(ζ) = γ·(yⱼ − ζ)⁺ the vertical stress once j lifts are in

@@ -1,7 +1,7 @@
 //! Friction to the tail of a reinforcement that ends inside the soil (split mode).
 //!
 //! Reference: the fully plastic limit of the progressive-slip solution
-//! (shared/reference/closed-forms.md §2): once every point of a two-face reinforcement of embedded
+//! (docs/verification.md §2): once every point of a two-face reinforcement of embedded
 //! length L slides under a normal stress σn, it carries P_ult = n_f·τmax·L with τmax = σn·tan φ,
 //! and with large slip n_f·τmax·(L − u) once its head has moved u out of the soil. The tail, where
 //! both faces meet at one soil node, must count: without it the force is n_f·τmax·(L − h/2 − u).

@@ -1,6 +1,6 @@
 //! Tied-interface patch test on matching meshes.
 //!
-//! Reference: shared/reference/closed-forms.md §6, after Crisfield (2000), "Re-visiting the contact
+//! Reference: docs/verification.md §6, after Crisfield (2000), "Re-visiting the contact
 //! patch test", Int. J. Numer. Meth. Engng 48, 435–449. Two blocks, each 1 m × 0.5 m, stacked and
 //! joined by a `tie` interface (multipliers in the normal and tangential directions). E = 1e6 Pa,
 //! ν = 0.3; the base held in y, the top pushed down 0.01 m, ux = 0 at the left corners.

@@ -1,6 +1,6 @@
 //! Veneer stability: cover soil on a geomembrane-lined slope, factor of safety by strength reduction.
 //!
-//! Reference: shared/reference/closed-forms.md §7 (Koerner & Soong, Geotextiles and Geomembranes 16
+//! Reference: docs/verification.md §7 (Koerner & Soong, Geotextiles and Geomembranes 16
 //! (1998) 1–36, the two-wedge method; Giroud & Beech 1989): a long slope with no toe has
 //! FS = tan φ_i / tan β; a toe (passive wedge on the horizontal ground, resisting through the cover
 //! soil's own friction) adds to it, by the quadratic A·FS² + B·FS + C₀ = 0.
@@ -225,7 +225,7 @@ fn lined_slope_with_pull(beta_deg: f64, length: f64, phi_i: f64, phi_soil: f64, 
     file
 }
 
-/// The two-wedge factor of safety (closed-forms.md §7) with a geosynthetic force `t` parallel to
+/// The two-wedge factor of safety (docs/verification.md §7) with a geosynthetic force `t` parallel to
 /// the slope; `c_a` = 0 (the liner interface has no adhesion).
 fn two_wedge(beta_deg: f64, length: f64, phi_i: f64, phi: f64, t: f64) -> f64 {
     let b = beta_deg.to_radians();

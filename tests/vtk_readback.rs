@@ -3,7 +3,7 @@
 //! the step's CSV files value for value.
 //!
 //! Reference: the VTK file formats (VTK User's Guide, "VTK File Formats": XML UnstructuredGrid and
-//! the ParaView Collection), and shared/reference/closed-forms.md §5: in the annotated example's
+//! the ParaView Collection), and docs/verification.md §5: in the annotated example's
 //! first stage the oedometric normal stress on the grid is q + γz = 20 + 19·0.2 = 23.8 kPa on both
 //! faces, which the interface grid must carry as `sigma_n`.
 //!

@@ -8,7 +8,7 @@
 //!
 //! Reference: the XDMF model (xdmf.org, "XDMF Model and Format": a Temporal collection of Uniform
 //! grids, each with its Time, Topology, Geometry and Attributes, heavy data in HDF5), and
-//! shared/reference/closed-forms.md §5: in the annotated example's first stage the oedometric
+//! docs/verification.md §5: in the annotated example's first stage the oedometric
 //! normal stress on the grid is q + γz = 20 + 19·0.2 = 23.8 kPa on both faces, which the interface
 //! collection must carry as `sigma_n`.
 //!

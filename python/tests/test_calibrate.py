@@ -1,6 +1,6 @@
 """geoslip.calibrate from Python: a Coulomb law fitted to direct-shear curves.
 
-Reference: the Coulomb law itself (shared/reference/closed-forms.md §4: a uniform slip under a
+Reference: the Coulomb law itself (docs/verification.md §4: a uniform slip under a
 uniform σn), written here in NumPy independently of geoslip: τ = min(Ks·δ, c + σn·tan φ) with
 Ks = 15 000 kPa/m, c = 10 kPa, φ = 28°, at σn = 30, 60 and 120 kPa, δ to 10 mm every 0.1 mm, each
 value off by a relative error of standard deviation 2 % (seed 17). Goal: every parameter within 3 %

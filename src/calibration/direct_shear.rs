@@ -1,4 +1,4 @@
-//! A direct-shear curve from a law: a uniform slip under a uniform σn (closed-forms.md §4, the
+//! A direct-shear curve from a law: a uniform slip under a uniform σn (docs/verification.md §4, the
 //! block on a rigid base with the displacement applied to every node), so τ(δ) is the law itself,
 //! evaluated along the measured slips in order with its history carried from point to point.
 //!

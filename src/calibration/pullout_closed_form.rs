@@ -1,5 +1,5 @@
 //! The pull-out force of a Coulomb interface on a rigid soil at σn = the surcharge
-//! (shared/reference/closed-forms.md §1–2), with the embedded length shortened as the reinforcement
+//! (docs/verification.md §1–2), with the embedded length shortened as the reinforcement
 //! leaves the soil through the front face.
 //!
 //! Of an embedded length L' with head displacement d: elastic up to u_y = τmax/Ks,
@@ -78,7 +78,7 @@ pub fn force(r: &Reinforcement, ks: f64, tau_max: f64, u_head: f64) -> f64 {
 mod tests {
     use super::*;
 
-    /// closed-forms.md §1's example: EA = 1000 kN/m, Ks = 2000 kPa/m, L = 1 m, n_f = 2: K = 1928.055
+    /// docs/verification.md §1's example: EA = 1000 kN/m, Ks = 2000 kPa/m, L = 1 m, n_f = 2: K = 1928.055
     /// kN/m per m, so P = 10 kN/m at d = 5.18657 mm (elastic: τmax large); and with the head pulled
     /// out of the soil, the stiffness of what is left, K(L − ξ), at the face's displacement ξ, where
     /// u_h = ξ·(1 + P/EA).

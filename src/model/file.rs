@@ -465,9 +465,9 @@ pub struct BearingSpec {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 #[serde(rename_all = "kebab-case")]
 pub enum BearingFormula {
-    /// Upper bound: σb/σn = exp((π/2 + φ)·tan φ)·tan²(π/4 + φ/2).
+    /// Upper bound (general shear; Jewell et al. 1984): σb/σn = exp(π·tan φ)·tan²(π/4 + φ/2).
     GeneralShear,
-    /// Lower bound: σb/σn = exp((π/2)·tan φ)·tan(π/4 + φ/2).
+    /// Lower bound (punching shear; Jewell et al. 1984): σb/σn = exp((π/2 + φ)·tan φ)·tan(π/4 + φ/2).
     PunchingShear,
     /// σb/σn given as `ratio` (from the user's own tests).
     Ratio,

@@ -1,5 +1,5 @@
 //! A reinforcement in a rigid, fixed soil block: the setting of the 1-D closed forms
-//! (shared/reference/closed-forms.md, "assume a rigid surrounding medium").
+//! (docs/verification.md, Conventions: "assume a rigid surrounding medium").
 #![allow(dead_code)]
 
 use geoslip::meshgen::{support, Block};
@@ -81,7 +81,7 @@ pub fn pullout_curve(model: &geoslip::model::Model, c: &geoslip::analysis::Colle
     c.steps.iter().map(|(_, r)| (-r.displacement_vector[2 * head], -r.reaction_vector[2 * head])).collect()
 }
 
-/// The progressive-slip closed form (closed-forms.md §2) of the reference parameters used by the
+/// The progressive-slip closed form (docs/verification.md §2) of the reference parameters used by the
 /// tests: EA = 1000 kN/m, Ks = 2000 kN/m³, τmax = 5 kPa (cohesion), α = √(n_f·Ks/EA) = 2, n_f = 2,
 /// L = 1 m.
 pub mod progressive {
