@@ -21,7 +21,7 @@ use geoslip::analysis::{FactorOfSafety, StepRecord, StepSink};
 use geoslip::linsol::linear_system::SolverStats;
 use geoslip::model::Model;
 use geoslip::output::plots::{write_figure, Panel};
-use geoslip::output::{run_and_write, write_atomically};
+use geoslip::output::{run_and_write, OwnedFolder};
 use geoslip::Error;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -141,7 +141,7 @@ fn run() -> Result<(), Error> {
         .map(|&(layer, face)| (layer, profile(&model, &built, layer, face), profile(&model, &at_fs, layer, face)))
         .collect();
     let dir = out.join("slope");
-    std::fs::create_dir_all(&dir).map_err(|source| Error::Write { path: dir.clone(), source })?;
+    let folder = OwnedFolder::open(&dir, &[])?;
 
     let mut csv = String::from(
         "layer,state,T_max [kN/m],at distance [m],anchor force [kN/m],max slip beneath [m],at distance [m],ruptured bars\n",
@@ -154,7 +154,7 @@ fn run() -> Result<(), Error> {
                 writeln!(csv, "{layer},{state},{t:.3},{xt:.2},{:.3},{s:.5},{xs:.2},{}", anchor_force(p), p.ruptured);
         }
     }
-    write_atomically(&dir.join("layers.csv"), csv.as_bytes())?;
+    folder.write("layers.csv", csv.as_bytes())?;
     let mut pcsv = String::from("layer,state,quantity,distance [m],value\n");
     for (layer, b, f) in &profiles {
         for (state, p) in [("built", b), ("at FS", f)] {
@@ -166,7 +166,7 @@ fn run() -> Result<(), Error> {
             }
         }
     }
-    write_atomically(&dir.join("profiles.csv"), pcsv.as_bytes())?;
+    folder.write("profiles.csv", pcsv.as_bytes())?;
 
     let tension_series = |at_fs: bool| -> Vec<(String, Vec<(f64, f64)>)> {
         profiles.iter().map(|(l, b, f)| (l.to_string(), if at_fs { f } else { b }.tension.clone())).collect()
@@ -211,7 +211,7 @@ fn run() -> Result<(), Error> {
             markers_only: Vec::new(),
         },
     ];
-    write_figure(&dir, "slope", &panels, 2)?;
+    write_figure(&folder, "slope", &panels, 2)?;
 
     let mut md = String::new();
     let _ = writeln!(md, "# Lined landfill side slope, 3H:1V, 10 m high\n");
@@ -317,7 +317,7 @@ fn run() -> Result<(), Error> {
     }
     let yielding = at_fs.stresses.iter().filter(|s| s.yield_state.is_plastic()).count();
     let _ = writeln!(md, "- soil: {yielding} Gauss points on the (reduced) yield surface\n");
-    write_atomically(&dir.join("slope-report.md"), md.as_bytes())?;
+    folder.write("slope-report.md", md.as_bytes())?;
     println!("{}", std::fs::read_to_string(dir.join("layers.csv")).unwrap_or_default());
     println!("FS = {:.3} ({} reduced). Report: {}", fs.value, fs.reduced, dir.join("slope-report.md").display());
     Ok(())

@@ -22,7 +22,7 @@ use geoslip::analysis::{StepRecord, StepSink};
 use geoslip::linsol::linear_system::SolverStats;
 use geoslip::model::Model;
 use geoslip::output::plots::{write_figure, Panel};
-use geoslip::output::{run_and_write, write_atomically};
+use geoslip::output::{run_and_write, OwnedFolder};
 use geoslip::Error;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -109,7 +109,7 @@ fn run() -> Result<(), Error> {
     face.dedup_by(|a, b| (a.0 - b.0).abs() < 1e-9);
 
     let dir = out.join("wall");
-    std::fs::create_dir_all(&dir).map_err(|source| Error::Write { path: dir.clone(), source })?;
+    let folder = OwnedFolder::open(&dir, &[])?;
     let mut csv = String::from(
         "layer,y [m],depth [m],T_max [kN/m],x at T_max [m],T at the facing [kN/m],max slip [m],Ka*sigma_v*Sv [kN/m],FE / simplified\n",
     );
@@ -135,12 +135,12 @@ fn run() -> Result<(), Error> {
         );
         rows.push((l, depth, t_max, x_max, at_facing, slip, simplified));
     }
-    write_atomically(&dir.join("layers.csv"), csv.as_bytes())?;
+    folder.write("layers.csv", csv.as_bytes())?;
     let mut face_csv = String::from("y [m],ux [m],uy [m]\n");
     for (y, ux, uy) in &face {
         let _ = writeln!(face_csv, "{y:.3},{ux:.6},{uy:.6}");
     }
-    write_atomically(&dir.join("face.csv"), face_csv.as_bytes())?;
+    folder.write("face.csv", face_csv.as_bytes())?;
 
     let panels = vec![
         Panel {
@@ -181,7 +181,7 @@ fn run() -> Result<(), Error> {
             markers_only: Vec::new(),
         },
     ];
-    write_figure(&dir, "wall", &panels, 2)?;
+    write_figure(&folder, "wall", &panels, 2)?;
 
     let top = face.last().map_or(0.0, |f| f.1);
     let max_out = face.iter().fold(0.0f64, |m, f| m.max(-f.1));
@@ -261,7 +261,7 @@ fn run() -> Result<(), Error> {
             above.join(", ")
         );
     }
-    write_atomically(&dir.join("wall-report.md"), md.as_bytes())?;
+    folder.write("wall-report.md", md.as_bytes())?;
     println!("{}", std::fs::read_to_string(dir.join("layers.csv")).unwrap_or_default());
     println!(
         "face: largest outward movement {:.1} mm; sum of T_max {sum_fe:.1} kN/m against {sum_simplified:.1} kN/m by \

@@ -145,7 +145,7 @@ pub struct MemoryShortfall {
 #[non_exhaustive]
 pub enum Error {
     #[error("{path}: cannot read the model file: {source}")]
-    Read { path: PathBuf, source: std::io::Error },
+    Read { path: PathBuf, source: crate::input_file::Unreadable },
     #[error("{path}: {message}")]
     Parse { path: PathBuf, message: String },
     #[error(transparent)]

@@ -22,6 +22,7 @@ pub mod element;
 pub mod error;
 pub mod geo_script;
 pub mod gmsh;
+pub mod input_file;
 pub mod interface;
 pub mod linsol;
 pub mod mesh;

@@ -12,38 +12,14 @@
 
 mod common;
 
-use geoslip::analysis::{self, Checkpoint, Collect, RunOptions, StepSink};
-use geoslip::linsol::linear_system::SolverStats;
+use geoslip::analysis::{self, Checkpoint, Collect, RunOptions};
 use geoslip::linsol::Backend;
 use geoslip::meshgen::PullOutBox;
 use geoslip::model::file::*;
 use geoslip::model::Model;
 use geoslip::output::checkpoints::{self, From};
 
-/// Keeps every step and every saved state.
-#[derive(Default)]
-struct Saved {
-    steps: Collect,
-    checkpoints: Vec<Checkpoint>,
-}
-
-impl StepSink for Saved {
-    fn step_done(
-        &mut self,
-        step: &analysis::results::StepResults,
-        record: &analysis::StepRecord,
-        stats: &SolverStats,
-    ) -> Result<(), geoslip::Error> {
-        self.steps.step_done(step, record, stats)
-    }
-    fn keeps_checkpoints(&self) -> bool {
-        true
-    }
-    fn checkpoint(&mut self, checkpoint: &Checkpoint) -> Result<(), geoslip::Error> {
-        self.checkpoints.push(checkpoint.clone());
-        Ok(())
-    }
-}
+use common::Saved;
 
 fn pullout(pull: f64, steps: usize) -> ModelFile {
     PullOutBox {
@@ -67,10 +43,8 @@ fn run_saving(model: &Model, backend: Backend) -> Saved {
 /// checked against `model`.
 fn through_file(saved: &Saved, stage: &str, step: usize, model: &Model) -> Result<Checkpoint, geoslip::Error> {
     let dir = tempfile::tempdir().unwrap();
-    for c in &saved.checkpoints {
-        checkpoints::write(dir.path(), c).unwrap();
-    }
-    checkpoints::read(dir.path(), &From { stage: stage.into(), step }, model)
+    common::write_saved_steps(dir.path(), &saved.checkpoints);
+    checkpoints::read(dir.path(), &From { stage: stage.into(), step }, model, None)
 }
 
 fn resume(model: &Model, backend: Backend, checkpoint: Checkpoint) -> Collect {

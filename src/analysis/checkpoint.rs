@@ -63,12 +63,23 @@ pub struct ModelPrint {
     pub supports: u64,
     /// One per stage.
     pub stages: Vec<u64>,
+    /// One per setting of `[analysis]`, by name, and the model's units: each changes the answers.
+    pub settings: Vec<(String, u64)>,
 }
 
 fn print_of(value: &impl std::fmt::Debug) -> u64 {
     let mut h = std::collections::hash_map::DefaultHasher::new();
     format!("{value:?}").hash(&mut h);
     h.finish()
+}
+
+/// A print of each `[analysis]` setting, named as the model file names it, and of the units.
+fn settings_of(model: &Model) -> Vec<(String, u64)> {
+    let mut settings = vec![("units".to_string(), print_of(&model.units))];
+    if let Ok(serde_json::Value::Object(fields)) = serde_json::to_value(&model.analysis) {
+        settings.extend(fields.iter().map(|(name, value)| (format!("analysis.{name}"), print_of(&value.to_string()))));
+    }
+    settings
 }
 
 impl ModelPrint {
@@ -80,6 +91,7 @@ impl ModelPrint {
             interfaces: print_of(&model.interfaces),
             supports: print_of(&model.supports),
             stages: model.stages.iter().map(print_of).collect(),
+            settings: settings_of(model),
         }
     }
 }
@@ -93,6 +105,13 @@ pub enum ResumeRefusal {
         "the {what} changed since the run that saved it ({detail}): the saved state belongs to the model as it was; run the model from the start"
     )]
     Changed { what: &'static str, detail: &'static str },
+    #[error("its stage index {index} is past the model's {stages} stages")]
+    NoStage { index: usize, stages: usize },
+    #[error(
+        "`{setting}` changed since the run that saved it: the saved state was reached with the setting as it was, and \
+         continuing with another would mix two analyses; set it back, or run the model from the start"
+    )]
+    Setting { setting: String },
     #[error(
         "stage {index} (\"{name}\") changed or is gone: a continuation from stage \"{saved}\" keeps every stage up to that one; change only the stages after it (or continue from the end of the stage before the one you changed)"
     )]
@@ -111,6 +130,9 @@ impl Checkpoint {
         if self.geoslip_version != running {
             return Err(ResumeRefusal::Version { written: self.geoslip_version.clone(), running: running.into() });
         }
+        if self.stage_index >= model.stages.len() || self.model.stages.len() <= self.stage_index {
+            return Err(ResumeRefusal::NoStage { index: self.stage_index, stages: model.stages.len() });
+        }
         let now = ModelPrint::of(model);
         let parts = [
             ("mesh", "its nodes, elements, bars or geometry", self.model.mesh, now.mesh),
@@ -120,6 +142,15 @@ impl Checkpoint {
         ];
         if let Some(&(what, detail, _, _)) = parts.iter().find(|(_, _, a, b)| a != b) {
             return Err(ResumeRefusal::Changed { what, detail });
+        }
+        if self.model.settings != now.settings {
+            let setting = now
+                .settings
+                .iter()
+                .find(|s| !self.model.settings.contains(s))
+                .or_else(|| self.model.settings.iter().find(|s| !now.settings.contains(s)))
+                .map_or_else(|| "analysis".to_string(), |(name, _)| name.clone());
+            return Err(ResumeRefusal::Setting { setting });
         }
         for index in 0..=self.stage_index {
             if self.model.stages.get(index) != now.stages.get(index) {

@@ -45,6 +45,7 @@ mod non_finite;
 mod options;
 mod predictor;
 pub mod results;
+pub mod resume_check;
 mod singular;
 mod sink;
 pub mod soil;

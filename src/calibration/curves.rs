@@ -64,7 +64,9 @@ pub fn expected_header(kind: TestKind) -> &'static str {
 /// without a unit in brackets, an unknown unit, a value that is not a finite number, a negative
 /// normal stress, more than [`MAX_ROWS`] rows, or a curve of fewer than [`MIN_POINTS`] points.
 pub fn read(path: &Path, kind: TestKind) -> Result<Vec<Curve>, CalibrationError> {
-    let text = std::fs::read_to_string(path).map_err(|source| CalibrationError::Read { path: path.into(), source })?;
+    let read = |source| CalibrationError::Read { path: path.into(), source };
+    let bytes = crate::input_file::read(path, crate::input_file::SizeLimit::of_memory(None)).map_err(read)?;
+    let text = String::from_utf8(bytes).map_err(|e| read(std::io::Error::new(std::io::ErrorKind::InvalidData, e).into()))?;
     parse(path, &text, kind)
 }
 

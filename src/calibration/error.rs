@@ -7,7 +7,7 @@ use std::path::PathBuf;
 #[non_exhaustive]
 pub enum CalibrationError {
     #[error("{path}: cannot read: {source}")]
-    Read { path: PathBuf, source: std::io::Error },
+    Read { path: PathBuf, source: crate::input_file::Unreadable },
     /// The calibration file: a field missing, unknown or out of range.
     #[error("{path}: {field}: {message}")]
     Spec { path: PathBuf, field: String, message: String },

@@ -7,7 +7,7 @@ use super::error::CalibrationError;
 use super::spec::TestKind;
 use super::Calibration;
 use crate::output::plots::{write_figure, Panel};
-use crate::output::write_atomically;
+use crate::output::OwnedFolder;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -185,10 +185,13 @@ pub fn write(c: &Calibration, out: &Path) -> Result<(), CalibrationError> {
         crate::Error::Write { path, source } => CalibrationError::Write { path, source },
         other => CalibrationError::Write { path: out.into(), source: std::io::Error::other(other.to_string()) },
     };
-    write_atomically(&out.join("calibration.md"), markdown(c).as_bytes()).map_err(fail)?;
+    // the folder is owned as a run's is: only what an earlier calibration wrote there is replaced,
+    // never through a link, and never the calibration's own inputs
+    let folder = OwnedFolder::open(out, &[c.spec.path.as_path(), c.spec.data.as_path()]).map_err(fail)?;
+    folder.write("calibration.md", markdown(c).as_bytes()).map_err(fail)?;
     let text = serde_json::to_string_pretty(&json(c)).unwrap_or_default();
-    write_atomically(&out.join("calibration.json"), text.as_bytes()).map_err(fail)?;
-    write_atomically(&out.join("interface-law.toml"), law_block(c).as_bytes()).map_err(fail)?;
+    folder.write("calibration.json", text.as_bytes()).map_err(fail)?;
+    folder.write("interface-law.toml", law_block(c).as_bytes()).map_err(fail)?;
     let (x_label, y_label, what) = match c.spec.test {
         TestKind::DirectShear => ("slip [mm]", "shear stress τ [kPa]", "σn"),
         TestKind::PullOut => ("head displacement [mm]", "pull-out force [kN/m]", "q"),
@@ -208,5 +211,5 @@ pub fn write(c: &Calibration, out: &Path) -> Result<(), CalibrationError> {
         series,
         markers_only: markers,
     };
-    write_figure(out, "fitted-curves", &[panel], 1).map_err(fail)
+    write_figure(&folder, "fitted-curves", &[panel], 1).map_err(fail)
 }

@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 #[serde(rename_all = "kebab-case")]
 pub enum TestKind {
     /// τ against slip at several normal stresses: the law itself is the model (a uniform slip under
-    /// a uniform σn, closed-forms.md §4).
+    /// a uniform σn, docs/verification.md §4).
     DirectShear,
     /// Pull-out force per metre width against the head's displacement at several surcharges.
     PullOut,
@@ -33,7 +33,7 @@ impl TestKind {
 #[serde(rename_all = "kebab-case")]
 pub enum PullOutModel {
     /// The progressive-slip solution on a rigid soil at σn = the surcharge, with the embedded
-    /// length shortened as the reinforcement leaves the soil (closed-forms.md §1–2): Coulomb only.
+    /// length shortened as the reinforcement leaves the soil (docs/verification.md §1–2): Coulomb only.
     #[default]
     ClosedForm,
     /// The pull-out box itself, run by geoslip for every trial of the parameters: any law, the
@@ -122,7 +122,9 @@ pub struct CalibrationSpec {
 /// # Errors
 /// [`CalibrationError::Read`], or [`CalibrationError::Spec`] naming the field.
 pub fn load(path: &Path) -> Result<CalibrationSpec, CalibrationError> {
-    let text = std::fs::read_to_string(path).map_err(|source| CalibrationError::Read { path: path.into(), source })?;
+    let read = |source| CalibrationError::Read { path: path.into(), source };
+    let bytes = crate::input_file::read(path, crate::input_file::SizeLimit::of_memory(None)).map_err(read)?;
+    let text = String::from_utf8(bytes).map_err(|e| read(std::io::Error::new(std::io::ErrorKind::InvalidData, e).into()))?;
     let de = toml::Deserializer::parse(&text).map_err(|e| CalibrationError::Spec {
         path: path.into(),
         field: "(file)".into(),

@@ -79,12 +79,17 @@ enum Command {
         out_of_core: bool,
         /// Memory the run may use, MB (default: what the machine has available). A factorisation
         /// that MUMPS estimates above it stops the run before it starts.
-        #[arg(long, value_name = "MB")]
+        #[arg(long, value_name = "MB", value_parser = positive_number)]
         memory_limit: Option<f64>,
         /// Mesh a .geo script even if it runs programs or writes files (SystemCall, Printf > file,
-        /// …). A .geo file is a program: read it first.
+        /// …), and without the confinement Gmsh otherwise runs in. A .geo file is a program: read
+        /// it first.
         #[arg(long)]
         trust_geo: bool,
+        /// The longest Gmsh may take to mesh a .geo script, seconds of wall time (it is stopped
+        /// then, and the run with it).
+        #[arg(long, value_name = "SECONDS", default_value = "300", value_parser = positive_number)]
+        gmsh_time_limit: f64,
         /// Solve the whole system in every iteration instead of condensing an elastic soil onto the
         /// interface's unknowns (the same answers; for comparison and benchmarks).
         #[arg(long)]
@@ -134,6 +139,12 @@ enum Command {
         /// Mesh a .geo script even if it runs programs or writes files (see `run --trust-geo`).
         #[arg(long)]
         trust_geo: bool,
+        /// Memory the check may use, MB (default: what the machine has available).
+        #[arg(long, value_name = "MB", value_parser = positive_number)]
+        memory_limit: Option<f64>,
+        /// The longest Gmsh may take to mesh a .geo script, seconds (see `run --gmsh-time-limit`).
+        #[arg(long, value_name = "SECONDS", default_value = "300", value_parser = positive_number)]
+        gmsh_time_limit: f64,
     },
     /// Fit an interface law to measured curves (direct-shear τ–δ or pull-out P–δ at several normal
     /// stresses) and write each parameter with its standard error and 95 % interval, the fitted
@@ -226,6 +237,15 @@ pub fn main() -> ExitCode {
     command_line()
 }
 
+/// A limit given on the command line: a finite number above zero (`NaN`, `inf`, 0 and negative
+/// numbers would each turn a limit off or make it refuse everything).
+fn positive_number(text: &str) -> Result<f64, String> {
+    match text.parse::<f64>() {
+        Ok(v) if v.is_finite() && v > 0.0 => Ok(v),
+        _ => Err(format!("`{text}` is not a number above zero")),
+    }
+}
+
 fn command_line() -> ExitCode {
     let cli = Cli::parse();
     let cli_flags = (cli.quiet, cli.verbose);
@@ -289,9 +309,11 @@ fn command_line() -> ExitCode {
             ExitCode::SUCCESS
         }
         // the same models a run would make: a series is checked run by run
-        Command::Check { model, mesh, trust_geo } => {
-            check(&model, mesh, LoadOptions { trust_geo, ..LoadOptions::default() })
-        }
+        Command::Check { model, mesh, trust_geo, memory_limit, gmsh_time_limit } => check(
+            &model,
+            mesh,
+            LoadOptions { trust_geo, memory_limit_mb: memory_limit, gmsh_time_limit_s: gmsh_time_limit },
+        ),
         Command::Run {
             model,
             solver,
@@ -300,6 +322,7 @@ fn command_line() -> ExitCode {
             out_of_core,
             memory_limit,
             trust_geo,
+            gmsh_time_limit,
             full_system,
             csv,
             keep,
@@ -311,7 +334,7 @@ fn command_line() -> ExitCode {
         } => {
             let options =
                 SolverOptions { ordering, out_of_core, memory_limit_mb: memory_limit, condense: !full_system };
-            let load = LoadOptions { trust_geo, memory_limit_mb: memory_limit };
+            let load = LoadOptions { trust_geo, memory_limit_mb: memory_limit, gmsh_time_limit_s: gmsh_time_limit };
             let output = OutputOptions { csv, keep, vtu, no_restart, precision: field_precision };
             let restart = restart.zip(from);
             match run(&model, load, solver, &options, &output, out, restart, Verbosity::of(&cli_flags)) {
@@ -427,11 +450,11 @@ fn run(
                 );
                 return Err(crate::Error::Restart { path: results, message });
             }
-            let checkpoint = crate::output::checkpoints::read(&results, &from, &model)?;
+            let checkpoint = crate::output::checkpoints::read(&results, &from, &model, load.memory_limit_mb)?;
             Some((checkpoint, results))
         }
     };
-    run_case(path, &model, solver, options, output, &out, from, verbosity, &mut Vec::new())
+    run_case(path, &model, solver, options, output, Place::Path(&out), from, verbosity, &mut Vec::new())
 }
 
 /// Each run of a series in a folder of its own, then `series.csv`, the envelope plot and the report.
@@ -448,6 +471,9 @@ fn run_series(
     let mut outcomes = Vec::new();
     let mut first_error = None;
     let mut pullout = None;
+    let first = cases[0].model()?;
+    let inputs = crate::output::ResultWriter::inputs(&first);
+    let series_folder = crate::output::OwnedFolder::open(out, &inputs)?;
     for case in cases {
         let label = case.label.clone().unwrap_or_default();
         // the label holds the model's load name: one safe component inside `out`, the name cut
@@ -464,8 +490,9 @@ fn run_series(
         }
         let mut peaks = Vec::new();
         let model = case.model()?;
+        let case_folder = series_folder.subfolder(&folder, &crate::output::ResultWriter::inputs(&model))?;
         let error =
-            match run_case(path, &*model, solver, options, output, &out.join(&folder), None, verbosity, &mut peaks) {
+            match run_case(path, &*model, solver, options, output, Place::Opened(case_folder), None, verbosity, &mut peaks) {
                 Ok(()) => None,
                 Err(e) => {
                     let message = e.to_string();
@@ -479,7 +506,7 @@ fn run_series(
         outcomes.push(CaseOutcome { folder, label, value: case.value.unwrap_or(0.0), peaks, error });
     }
     let load = cases[0].load.clone().unwrap_or_else(|| "load".to_string());
-    let summary = series::write(out, path, &load, &cases[0].model()?.unit_labels(), outcomes, pullout)?;
+    let summary = series::write(&series_folder, path, &load, &cases[0].model()?.unit_labels(), outcomes, pullout)?;
     if verbosity != Verbosity::Quiet {
         if let (Some(p), Some(e)) = (&summary.pullout, &summary.envelope) {
             println!(
@@ -500,6 +527,12 @@ fn run_series(
     }
 }
 
+/// Where a run writes: the folder the user named, or a folder opened already (a run of a series).
+enum Place<'a> {
+    Path(&'a std::path::Path),
+    Opened(crate::output::OwnedFolder),
+}
+
 /// Run one model into `out`; `peaks` receives the peak reaction of each prescribed target, also when
 /// the run stops early.
 #[allow(clippy::too_many_arguments)]
@@ -509,7 +542,7 @@ fn run_case(
     solver: Backend,
     solver_options: &SolverOptions,
     output: &OutputOptions,
-    out: &std::path::Path,
+    out: Place<'_>,
     from: Option<(crate::analysis::Checkpoint, PathBuf)>,
     verbosity: Verbosity,
     peaks: &mut Vec<crate::output::TargetPeak>,
@@ -524,7 +557,10 @@ fn run_case(
         ),
         b => b.name().to_string(),
     };
-    let mut writer = ResultWriter::with_options(model, out, &solver_name, output)?;
+    let mut writer = match out {
+        Place::Path(out) => ResultWriter::with_options(model, out, &solver_name, output)?,
+        Place::Opened(folder) => ResultWriter::with_folder(model, folder, &solver_name, output)?,
+    };
     if verbosity != Verbosity::Quiet {
         for note in &model.notes {
             eprintln!("note: {note}");
@@ -562,13 +598,13 @@ fn run_case(
                     seconds,
                     s.solver,
                     s.solver_stats.max_relative_residual,
-                    out.display()
+                    writer.out().display()
                 );
             }
             Ok(())
         }
         Err(e) => {
-            eprintln!("the {} completed steps are in {}", writer.summary.steps.len(), out.display());
+            eprintln!("the {} completed steps are in {}", writer.summary.steps.len(), writer.out().display());
             Err(e)
         }
     }

@@ -1,6 +1,5 @@
-//! Gmsh meshes: read `.msh` files (format 4.1, ASCII or binary, through the `mshio` crate; format 2.2
-//! ASCII by the small reader here), read the `$PhysicalNames` section that `mshio` skips, and run
-//! Debian's `gmsh` on a `.geo` file.
+//! Gmsh meshes: read `.msh` files (format 4.1, ASCII or binary, in `msh41`; format 2.2 ASCII, in
+//! `msh22`) with their `$PhysicalNames`, and run Debian's `gmsh` on a `.geo` file.
 //!
 //! The result is a flat [`GmshMesh`]: node tags with x–y coordinates, elements with their Gmsh type
 //! and the physical groups they belong to, and the physical groups by dimension, tag and name. Turning
@@ -9,7 +8,14 @@
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use std::process::Command;
+
+mod confinement;
+mod mesher;
+mod msh22;
+mod msh41;
+
+pub use confinement::ConfineError;
+pub use mesher::{mesh_geometry, refuse_script_actions, GeneratedMesh, MeshingOptions};
 
 /// A problem with a mesh file, naming the file and, where known, the line.
 #[derive(Debug, Clone, thiserror::Error)]
@@ -57,22 +63,31 @@ impl GmshKind {
         }
     }
 
-    /// Nodes per element, for the types whose count this reader must know (format 2.2).
+    /// Nodes per element of every Gmsh element type up to third order (the reference manual's
+    /// §10.2 "Node ordering"), so that a reader can step over types geoslip does not use.
     fn node_count(code: u32) -> Option<usize> {
         Some(match code {
             15 => 1,
             1 => 2,
             2 | 8 => 3,
-            3 => 4,
-            9 => 6,
-            10 => 9,
-            16 => 8,
-            4 => 4,
-            5 => 8,
-            6 => 6,
-            7 => 5,
-            11 => 10,
+            3 | 4 | 26 => 4,
+            7 | 27 => 5,
+            6 | 9 | 28 => 6,
+            5 | 16 => 8,
+            10 | 20 => 9,
+            11 | 21 | 29 => 10,
+            22 => 12,
+            19 => 13,
+            14 => 14,
+            18 | 23 | 24 => 15,
             17 => 20,
+            13 => 18,
+            25 => 21,
+            12 => 27,
+            30 => 35,
+            31 => 56,
+            92 => 64,
+            93 => 125,
             _ => return None,
         })
     }
@@ -137,17 +152,9 @@ impl GmshMesh {
     /// # Errors
     /// As [`GmshMesh::read`]; a mesh too large for the limit, with its size and the limit.
     pub fn read_within(path: &Path, limit_mb: Option<f64>) -> Result<GmshMesh, GmshError> {
-        if let (Some(limit), Ok(meta)) = (limit_mb, std::fs::metadata(path)) {
-            let mb = meta.len() as f64 / (1024.0 * 1024.0);
-            if mb > limit {
-                return Err(err(
-                    path,
-                    None,
-                    format!("the mesh file is {mb:.1} MB and this run may use {limit:.1} MB in all (--memory-limit, or what the machine has available)"),
-                ));
-            }
-        }
-        let bytes = std::fs::read(path).map_err(|e| err(path, None, format!("cannot read the mesh file: {e}")))?;
+        let limit = crate::input_file::SizeLimit::of_memory(limit_mb);
+        let bytes = crate::input_file::read(path, limit)
+            .map_err(|e| err(path, None, format!("cannot read the mesh file: {e}")))?;
         check_declared_size(path, &bytes, limit_mb)?;
         GmshMesh::from_bytes(path, &bytes)
     }
@@ -160,7 +167,7 @@ impl GmshMesh {
         let (version, binary) = mesh_format(path, bytes)?;
         let names = physical_names(path, bytes)?;
         if version.starts_with("4.1") {
-            read_v41(path, bytes, &names)
+            msh41::read(path, bytes, binary, &names)
         } else if version.starts_with("2.") {
             if binary {
                 return Err(err(
@@ -170,7 +177,7 @@ impl GmshMesh {
                         .into(),
                 ));
             }
-            read_v22(path, bytes, &names)
+            msh22::read(path, bytes, &names)
         } else {
             Err(err(
                 path,
@@ -201,7 +208,19 @@ fn mesh_format(path: &Path, bytes: &[u8]) -> Result<(String, bool), GmshError> {
     if fields.len() < 3 {
         return Err(err(path, Some(2), "the $MeshFormat line must read `version file-type data-size`".into()));
     }
-    Ok((fields[0].to_string(), fields[1] == "1"))
+    let binary = match fields[1] {
+        "0" => false,
+        "1" => true,
+        other => return Err(err(path, Some(2), format!("the file type is `{other}`; it must be 0 (ASCII) or 1 (binary)"))),
+    };
+    if fields[2] != "8" {
+        return Err(err(
+            path,
+            Some(2),
+            format!("the data size is `{}`; geoslip reads files written with 8-byte sizes, as Gmsh writes them", fields[2]),
+        ));
+    }
+    Ok((fields[0].to_string(), binary))
 }
 
 /// `$PhysicalNames` (written as text in ASCII and binary files alike): (dim, tag) → name.
@@ -233,6 +252,21 @@ fn find(haystack: &[u8], needle: &[u8]) -> Option<usize> {
     haystack.windows(needle.len()).position(|w| w == needle)
 }
 
+fn rfind(haystack: &[u8], needle: &[u8]) -> Option<usize> {
+    haystack.windows(needle.len()).rposition(|w| w == needle)
+}
+
+/// Refuse a node tag listed twice: the two rows could give it different coordinates, and which
+/// one an element means cannot be told.
+fn refuse_duplicate_nodes(path: &Path, nodes: &[(u64, [f64; 3])]) -> Result<(), GmshError> {
+    let mut tags: Vec<u64> = nodes.iter().map(|(t, _)| *t).collect();
+    tags.sort_unstable();
+    match tags.windows(2).find(|w| w[0] == w[1]) {
+        Some(w) => Err(err(path, None, format!("node {} is listed twice in $Nodes", w[0]))),
+        None => Ok(()),
+    }
+}
+
 /// Collects physical groups in first-seen order.
 #[derive(Default)]
 struct Groups {
@@ -250,165 +284,6 @@ impl Groups {
     }
 }
 
-fn read_v41(path: &Path, bytes: &[u8], names: &BTreeMap<(usize, i64), String>) -> Result<GmshMesh, GmshError> {
-    let msh = mshio::parse_msh_bytes(bytes).map_err(|e| {
-        let at = e.filtered_backtrace().first().map(|(rest, _)| bytes.len() - rest.len());
-        let what = e.first_msh_error().map(|k| k.to_string()).unwrap_or_else(|| "malformed section".to_string());
-        err(path, at.map(|o| line_of(bytes, o)), format!("cannot read the mesh (format 4.1): {what}"))
-    })?;
-    let data = msh.data;
-
-    // Entity (dim, tag) → physical tags.
-    let mut entity_groups: BTreeMap<(usize, i32), Vec<i32>> = BTreeMap::new();
-    if let Some(entities) = &data.entities {
-        for p in &entities.points {
-            entity_groups.insert((0, p.tag), p.physical_tags.clone());
-        }
-        for c in &entities.curves {
-            entity_groups.insert((1, c.tag), c.physical_tags.clone());
-        }
-        for s in &entities.surfaces {
-            entity_groups.insert((2, s.tag), s.physical_tags.clone());
-        }
-        for v in &entities.volumes {
-            entity_groups.insert((3, v.tag), v.physical_tags.clone());
-        }
-    }
-
-    let mut nodes = Vec::new();
-    if let Some(n) = &data.nodes {
-        // mshio keeps a block's tags only when the file's tags are sparse; otherwise they run from
-        // min_node_tag in file order.
-        let mut next = n.min_node_tag;
-        for block in &n.node_blocks {
-            let mut tags = vec![0u64; block.nodes.len()];
-            match &block.node_tags {
-                Some(map) => {
-                    for (&tag, &i) in map {
-                        tags[i] = tag;
-                    }
-                }
-                None => {
-                    for t in tags.iter_mut() {
-                        *t = next;
-                        next += 1;
-                    }
-                }
-            }
-            for (node, tag) in block.nodes.iter().zip(tags) {
-                nodes.push((tag, [node.x, node.y, node.z]));
-            }
-        }
-    }
-
-    let mut groups = Groups::default();
-    let mut elements = Vec::new();
-    if let Some(e) = &data.elements {
-        for block in &e.element_blocks {
-            let dim = block.entity_dim.max(0) as usize;
-            let kind = GmshKind::from_code(block.element_type as u32);
-            let physical = entity_groups.get(&(dim, block.entity_tag)).cloned().unwrap_or_default();
-            let group_ids: Vec<usize> = physical.iter().map(|&t| groups.get(dim, i64::from(t.abs()), names)).collect();
-            for el in &block.elements {
-                elements.push(GmshElement {
-                    tag: el.element_tag,
-                    kind,
-                    nodes: el.nodes.clone(),
-                    groups: group_ids.clone(),
-                });
-            }
-        }
-    }
-    // Named groups that no saved element uses are listed too, so that a message can offer them.
-    for &(dim, tag) in names.keys() {
-        groups.get(dim, tag, names);
-    }
-    Ok(GmshMesh { path: path.to_path_buf(), format: "4.1".into(), nodes, elements, groups: groups.list })
-}
-
-/// Format 2.2, ASCII: `$Nodes` rows `tag x y z`; `$Elements` rows
-/// `tag type ntags physical elementary [partitions…] nodes…`.
-fn read_v22(path: &Path, bytes: &[u8], names: &BTreeMap<(usize, i64), String>) -> Result<GmshMesh, GmshError> {
-    let text = std::str::from_utf8(bytes).map_err(|e| err(path, None, format!("the file is not text: {e}")))?;
-    let lines: Vec<&str> = text.lines().collect();
-    let section = |name: &str| lines.iter().position(|l| l.trim() == name);
-    let mut nodes = Vec::new();
-    let mut elements = Vec::new();
-    let mut groups = Groups::default();
-
-    if let Some(start) = section("$Nodes") {
-        let count = parse_count(path, &lines, start + 1)?;
-        for k in 0..count {
-            let n = start + 2 + k;
-            let line = lines.get(n).copied().unwrap_or("");
-            let f: Vec<&str> = line.split_whitespace().collect();
-            let bad = || err(path, Some(n + 1), format!("expected `tag x y z`, found `{line}`"));
-            if f.len() < 4 {
-                return Err(bad());
-            }
-            let tag: u64 = f[0].parse().map_err(|_| bad())?;
-            let mut x = [0.0; 3];
-            for d in 0..3 {
-                x[d] = f[1 + d].parse().map_err(|_| bad())?;
-            }
-            nodes.push((tag, x));
-        }
-    }
-    if let Some(start) = section("$Elements") {
-        let count = parse_count(path, &lines, start + 1)?;
-        for k in 0..count {
-            let n = start + 2 + k;
-            let line = lines.get(n).copied().unwrap_or("");
-            let bad = |what: &str| err(path, Some(n + 1), format!("{what} in the element row `{line}`"));
-            let f: Vec<u64> = line
-                .split_whitespace()
-                .map(|s| s.parse::<u64>())
-                .collect::<Result<_, _>>()
-                .map_err(|_| bad("a field that is not a whole number"))?;
-            if f.len() < 3 {
-                return Err(bad("too few fields"));
-            }
-            let (tag, code, ntags) = (f[0], f[1] as u32, f[2] as usize);
-            let Some(count) = GmshKind::node_count(code) else {
-                return Err(bad(&format!("unknown element type {code}")));
-            };
-            if f.len() != 3 + ntags + count {
-                return Err(bad(&format!("expected {} fields", 3 + ntags + count)));
-            }
-            let kind = GmshKind::from_code(code);
-            let dim = kind.dim().unwrap_or(3);
-            let group_ids = if ntags >= 1 && f[3] != 0 { vec![groups.get(dim, f[3] as i64, names)] } else { vec![] };
-            elements.push(GmshElement { tag, kind, nodes: f[3 + ntags..].to_vec(), groups: group_ids });
-        }
-    }
-    for &(dim, tag) in names.keys() {
-        groups.get(dim, tag, names);
-    }
-    Ok(GmshMesh { path: path.to_path_buf(), format: "2.2".into(), nodes, elements, groups: groups.list })
-}
-
-fn parse_count(path: &Path, lines: &[&str], n: usize) -> Result<usize, GmshError> {
-    let line = lines.get(n).copied().unwrap_or("");
-    line.trim().parse().map_err(|_| err(path, Some(n + 1), format!("expected a count, found `{line}`")))
-}
-
-/// A mesh that Gmsh made from a `.geo` file for this run.
-#[derive(Debug, Clone)]
-pub struct GeneratedMesh {
-    pub geometry: PathBuf,
-    /// `gmsh --version`.
-    pub gmsh_version: String,
-    /// The `.msh` file's bytes (format 4.1), kept so that the run can save the mesh it used.
-    pub msh: Vec<u8>,
-}
-
-/// Mesh a `.geo` file in 2-D with Debian's `gmsh` (format 4.1), and read the result. Unless
-/// `trust_script`, a script that starts programs or touches files (see [`crate::geo_script`]) is
-/// refused before Gmsh is started.
-///
-/// # Errors
-/// A [`GmshError`] when the script is refused, or when `gmsh` is not installed, fails, or writes a
-/// mesh that cannot be read.
 /// The node and element counts a `.msh` file declares in its section headers, read without parsing
 /// it: ASCII 2.2 and 4.1 give both, binary 4.1 the nodes (the elements then taken as many).
 pub fn declared_counts(bytes: &[u8]) -> Option<(usize, usize)> {
@@ -459,69 +334,4 @@ pub fn check_declared_size(path: &Path, bytes: &[u8], limit_mb: Option<f64>) -> 
         ));
     }
     Ok(())
-}
-
-/// Refuse a `.geo` script that runs programs or touches files (see `geo_script`).
-///
-/// # Errors
-/// The first such command's file and line, with up to five of them listed.
-pub fn refuse_script_actions(geometry: &Path) -> Result<(), GmshError> {
-    let actions = crate::geo_script::actions(geometry);
-    let Some(first) = actions.first() else { return Ok(()) };
-    let list: Vec<String> =
-        actions.iter().take(5).map(|a| format!("{}:{}: {}", a.file.display(), a.line, a.what)).collect();
-    Err(err(
-        &first.file,
-        Some(first.line),
-        format!(
-            "the mesh script does what geoslip does not run unasked (a .geo file is a program):\n    {}\n\
-             Read the script; if you trust it, pass --trust-geo, or mesh it yourself and point mesh.file at the .msh",
-            list.join("\n    ")
-        ),
-    ))
-}
-
-pub fn mesh_geometry(
-    geometry: &Path,
-    trust_script: bool,
-    limit_mb: Option<f64>,
-) -> Result<(GmshMesh, GeneratedMesh), GmshError> {
-    if !trust_script {
-        refuse_script_actions(geometry)?;
-    }
-    let gmsh = std::env::var_os("GEOSLIP_GMSH").unwrap_or_else(|| "gmsh".into());
-    let version = Command::new(&gmsh).arg("--version").output().map_err(|e| {
-        err(
-            geometry,
-            None,
-            format!(
-                "meshing a .geo file needs Gmsh, which could not be started ({e}); install it (Debian: apt-get install gmsh) \
-                 or point mesh.file at a .msh file"
-            ),
-        )
-    })?;
-    let version_text = String::from_utf8_lossy(&version.stdout).trim().to_string();
-    let version_text = if version_text.is_empty() {
-        String::from_utf8_lossy(&version.stderr).trim().to_string()
-    } else {
-        version_text
-    };
-    let dir = tempfile::tempdir().map_err(|e| err(geometry, None, format!("cannot make a scratch folder: {e}")))?;
-    let out = dir.path().join("mesh.msh");
-    let run = Command::new(&gmsh)
-        .arg(geometry)
-        .args(["-2", "-format", "msh41", "-v", "2", "-o"])
-        .arg(&out)
-        .output()
-        .map_err(|e| err(geometry, None, format!("cannot run gmsh: {e}")))?;
-    let log = format!("{}{}", String::from_utf8_lossy(&run.stdout), String::from_utf8_lossy(&run.stderr));
-    if !run.status.success() || !out.exists() {
-        let tail: Vec<&str> = log.lines().rev().take(8).collect::<Vec<_>>().into_iter().rev().collect();
-        return Err(err(geometry, None, format!("gmsh could not mesh the geometry:\n    {}", tail.join("\n    "))));
-    }
-    let bytes = std::fs::read(&out).map_err(|e| err(geometry, None, format!("cannot read gmsh's output: {e}")))?;
-    check_declared_size(geometry, &bytes, limit_mb)?;
-    let mut mesh = GmshMesh::from_bytes(&out, &bytes)?;
-    mesh.path = geometry.to_path_buf();
-    Ok((mesh, GeneratedMesh { geometry: geometry.to_path_buf(), gmsh_version: version_text, msh: bytes }))
 }

@@ -46,7 +46,15 @@ pub(super) fn import(
     let path = dir.join(&spec.file);
     let is_geo = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("geo"));
     let read = if is_geo {
-        crate::gmsh::mesh_geometry(&path, options.trust_geo, options.memory_limit()).map(|(m, g)| (m, Some(g)))
+        crate::gmsh::mesh_geometry(
+            &path,
+            crate::gmsh::MeshingOptions {
+                trust_script: options.trust_geo,
+                memory_limit_mb: options.memory_limit_mb,
+                time_limit_s: options.gmsh_time_limit_s,
+            },
+        )
+        .map(|(m, g)| (m, Some(g)))
     } else {
         GmshMesh::read_within(&path, options.memory_limit()).map(|m| (m, None))
     };

@@ -149,7 +149,7 @@ pub struct StrengthReduction {
 }
 
 /// How a model file may be read.
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy)]
 pub struct LoadOptions {
     /// Mesh a `.geo` script even when it starts programs or writes files (`--trust-geo`): a
     /// `.geo` file is a program, and by default one that does either is refused.
@@ -157,6 +157,14 @@ pub struct LoadOptions {
     /// Memory the run may use, MB (`--memory-limit`); `None`: what the machine has available. A
     /// mesh whose declared size would not fit is refused before it is read.
     pub memory_limit_mb: Option<f64>,
+    /// The longest Gmsh may take to mesh a `.geo` script, seconds (`--gmsh-time-limit`).
+    pub gmsh_time_limit_s: f64,
+}
+
+impl Default for LoadOptions {
+    fn default() -> Self {
+        LoadOptions { trust_geo: false, memory_limit_mb: None, gmsh_time_limit_s: 300.0 }
+    }
 }
 
 impl LoadOptions {
@@ -181,7 +189,7 @@ impl Model {
     /// # Errors
     /// As [`Model::load`].
     pub fn load_with(path: &Path, options: LoadOptions) -> Result<Model, Error> {
-        let text = read_text(path)?;
+        let text = read_text_within(path, options.memory_limit_mb)?;
         let file = parse(path, &text)?;
         Model::from_file_with(path, &file, options).map_err(Error::Model)
     }
@@ -209,7 +217,7 @@ impl Model {
     /// As [`Model::load`]; the refused commands of the script, or a missing script, are an
     /// [`Error::Model`] under `mesh.file`.
     pub fn check_without_meshing(path: &Path, options: LoadOptions) -> Result<PathBuf, Error> {
-        let text = read_text(path)?;
+        let text = read_text_within(path, options.memory_limit_mb)?;
         let file = parse(path, &text)?;
         let mut problems = match &file.series {
             Some(series) => series_problems(&file, series),
@@ -244,7 +252,7 @@ impl Model {
     /// # Errors
     /// As [`Model::load_cases`].
     pub fn load_cases_with(path: &Path, options: LoadOptions) -> Result<Vec<Case>, Error> {
-        let text = read_text(path)?;
+        let text = read_text_within(path, options.memory_limit_mb)?;
         let file = parse(path, &text)?;
         let Some(series) = file.series.clone() else {
             return Ok(vec![Case {
@@ -449,7 +457,17 @@ fn series_problems(file: &ModelFile, series: &file::Series) -> problems::Problem
 /// # Errors
 /// [`Error::Read`] when it cannot be read; [`Error::Parse`] when it is not UTF-8.
 pub fn read_text(path: &Path) -> Result<String, Error> {
-    let bytes = std::fs::read(path).map_err(|source| Error::Read { path: path.to_path_buf(), source })?;
+    read_text_within(path, None)
+}
+
+/// [`read_text`], refusing a file larger than `limit_mb` (the run's `--memory-limit`; `None`: the
+/// memory this machine has available) before it is read.
+///
+/// # Errors
+/// As [`read_text`].
+pub fn read_text_within(path: &Path, limit_mb: Option<f64>) -> Result<String, Error> {
+    let limit = crate::input_file::SizeLimit::of_memory(limit_mb);
+    let bytes = crate::input_file::read(path, limit).map_err(|source| Error::Read { path: path.to_path_buf(), source })?;
     String::from_utf8(bytes).map_err(|e| {
         let at = e.utf8_error().valid_up_to();
         let before = &e.as_bytes()[..at];

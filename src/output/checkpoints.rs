@@ -1,22 +1,31 @@
 //! The saved steps a run can continue from: `restart/stage-<k>-step-<nnnnn>.bin` in the results
 //! folder, one per converged step of a loading stage, each the run's [`Checkpoint`] in bincode's
 //! binary form (every number exactly as the run held it), deflated. Each is written as every result
-//! file is ([`super::folder::write_atomically`]: a temporary file, synced, renamed into place), so a killed
-//! run leaves no truncated saved step.
+//! file is ([`OwnedFolder::write`]: a temporary file, synced, renamed into place), so a killed run
+//! leaves no truncated saved step.
+//!
+//! A file is [`MAGIC`], the length of the bincode bytes (u64, little-endian), their CRC-32
+//! (u32, little-endian), then the deflated bytes. Reading one back checks the magic, refuses a
+//! length above the run's memory limit before it inflates anything, inflates no more than that
+//! length, and compares the CRC: a corrupted file is refused, and a file that inflates to more than
+//! it says (a decompression bomb) stops at its word.
 //!
 //! `geoslip run MODEL --restart RESULTS --from STAGE:STEP` reads one back ([`read`]) and continues
-//! from it when it fits the model ([`Checkpoint::fits`]).
+//! from it when it fits the model: the same model where the state depends on it
+//! ([`Checkpoint::fits`]), and every field in range ([`crate::analysis::resume_check`]).
 
+use super::owned_folder::OwnedFolder;
 use crate::analysis::Checkpoint;
 use crate::error::Error;
 use crate::model::Model;
+use bincode::Options;
 use std::io::{Read, Write};
 use std::path::{Path, PathBuf};
 
 pub use super::folder::CHECKPOINT_FOLDER as FOLDER;
 
-/// The largest saved step read back, MB (a file above it is refused before it is read).
-const LARGEST_MB: u64 = 16 * 1024;
+/// The first bytes of a saved step: what it is and the layout's version.
+pub const MAGIC: &[u8; 16] = b"geoslip-step\0\0\0\x02";
 
 fn file_name(stage_index: usize, step: usize) -> String {
     format!("stage-{}-step-{step:05}.bin", stage_index + 1)
@@ -26,13 +35,17 @@ fn file_name(stage_index: usize, step: usize) -> String {
 ///
 /// # Errors
 /// [`Error::Write`] naming the file.
-pub fn write(results: &Path, checkpoint: &Checkpoint) -> Result<(), Error> {
-    let path = results.join(FOLDER).join(file_name(checkpoint.stage_index, checkpoint.step));
+pub fn write(results: &OwnedFolder, checkpoint: &Checkpoint) -> Result<(), Error> {
+    let rel = format!("{FOLDER}/{}", file_name(checkpoint.stage_index, checkpoint.step));
+    let path = results.path().join(&rel);
     let fail = |source: std::io::Error| Error::Write { path: path.clone(), source };
     let bytes = bincode::serialize(checkpoint).map_err(|e| fail(std::io::Error::other(e.to_string())))?;
-    let mut deflate = flate2::write::DeflateEncoder::new(Vec::new(), flate2::Compression::fast());
+    let mut file = MAGIC.to_vec();
+    file.extend_from_slice(&(bytes.len() as u64).to_le_bytes());
+    file.extend_from_slice(&crc32fast::hash(&bytes).to_le_bytes());
+    let mut deflate = flate2::write::DeflateEncoder::new(file, flate2::Compression::fast());
     deflate.write_all(&bytes).map_err(fail)?;
-    super::folder::write_atomically(&path, &deflate.finish().map_err(fail)?)
+    results.write(&rel, &deflate.finish().map_err(fail)?)
 }
 
 /// Where the run continues from: a stage (its name, or its number from 1) and a converged step of
@@ -65,7 +78,7 @@ impl std::str::FromStr for From {
 /// # Errors
 /// [`Error::Restart`] naming the file or folder: no such stage, no such saved step (the saved ones
 /// are listed), an unreadable file, or a model changed where the saved state depends on it.
-pub fn read(results: &Path, from: &From, model: &Model) -> Result<Checkpoint, Error> {
+pub fn read(results: &Path, from: &From, model: &Model, memory_limit_mb: Option<f64>) -> Result<Checkpoint, Error> {
     let folder = results.join(FOLDER);
     let refuse = |path: &Path, message: String| Error::Restart { path: path.to_path_buf(), message };
     let index = match from.stage.parse::<usize>() {
@@ -82,25 +95,48 @@ pub fn read(results: &Path, from: &From, model: &Model) -> Result<Checkpoint, Er
             format!("no saved step {}:{} there ({})", from.stage, from.step, saved_steps(&folder)),
         ));
     }
-    let size = std::fs::metadata(&path).map(|m| m.len()).unwrap_or(0);
-    if size > LARGEST_MB * 1024 * 1024 {
-        return Err(refuse(
-            &path,
-            format!("the file is {} MB, above the {LARGEST_MB} MB a saved step may have", size >> 20),
+    let limit = crate::input_file::SizeLimit::of_memory(memory_limit_mb);
+    let file = crate::input_file::read(&path, limit).map_err(|e| refuse(&path, format!("it cannot be read: {e}")))?;
+    let bytes = inflate(&file, limit).map_err(|m| refuse(&path, m))?;
+    let checkpoint: Checkpoint = bincode::DefaultOptions::new()
+        .with_fixint_encoding()
+        .with_limit(bytes.len() as u64)
+        .deserialize(&bytes)
+        .map_err(|e| refuse(&path, format!("it is not a saved step of this geoslip ({e})")))?;
+    checkpoint.fits(model).map_err(|e| refuse(&path, e.to_string()))?;
+    crate::analysis::resume_check::check(&checkpoint, model, index, from.step).map_err(|m| refuse(&path, m))?;
+    Ok(checkpoint)
+}
+
+/// A saved step's bincode bytes: the header checked, inflated to no more than the length it states
+/// (itself within `limit`), and the CRC compared.
+fn inflate(file: &[u8], limit: crate::input_file::SizeLimit) -> Result<Vec<u8>, String> {
+    let header = MAGIC.len() + 12;
+    if file.len() < header || &file[..MAGIC.len()] != MAGIC {
+        return Err("it is not a saved step of this geoslip (its first bytes are not a saved step's)".into());
+    }
+    let length = u64::from_le_bytes(file[16..24].try_into().expect("8 bytes"));
+    let crc = u32::from_le_bytes(file[24..28].try_into().expect("4 bytes"));
+    if length > limit.bytes {
+        return Err(format!(
+            "it says it holds {:.1} MB, and this run may use {:.1} MB ({})",
+            length as f64 / 1048576.0,
+            limit.bytes as f64 / 1048576.0,
+            limit.why
         ));
     }
     let mut bytes = Vec::new();
-    std::fs::File::open(&path)
-        .map(|f| flate2::read::DeflateDecoder::new(std::io::BufReader::new(f)).take(LARGEST_MB * 1024 * 1024))
-        .and_then(|mut d| d.read_to_end(&mut bytes))
-        .map_err(|e| refuse(&path, format!("it cannot be read ({e})")))?;
-    let checkpoint: Checkpoint = bincode::deserialize(&bytes)
-        .map_err(|e| refuse(&path, format!("it is not a saved step of this geoslip ({e})")))?;
-    checkpoint.fits(model).map_err(|e| refuse(&path, e.to_string()))?;
-    if checkpoint.state.u.len() != 2 * model.mesh.nodes.len() {
-        return Err(refuse(&path, "its displacements do not match the model's nodes".into()));
+    flate2::read::DeflateDecoder::new(&file[header..])
+        .take(length + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| format!("it cannot be inflated ({e})"))?;
+    if bytes.len() as u64 != length {
+        return Err(format!("it inflates to {} bytes where it says {length}: it is damaged", bytes.len()));
     }
-    Ok(checkpoint)
+    if crc32fast::hash(&bytes) != crc {
+        return Err("its checksum does not match its contents: it is damaged or was changed".into());
+    }
+    Ok(bytes)
 }
 
 /// The saved steps in a folder, as `stage k: steps a–b` lines for a message.

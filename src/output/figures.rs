@@ -5,7 +5,6 @@ use super::plots;
 use crate::analysis::results::StepResults;
 use crate::error::Error;
 use crate::model::UnitLabels;
-use std::path::Path;
 
 /// T(x), u(x), τ(x) and σn(x) along one reinforcement at one step.
 #[derive(Debug, Clone)]
@@ -62,7 +61,7 @@ pub(super) fn profile(nodes: &ReinforcementNodes, r: &StepResults) -> Reinforcem
 
 /// What the figures are drawn from.
 pub(super) struct Figures<'a> {
-    pub out: &'a Path,
+    pub folder: &'a super::owned_folder::OwnedFolder,
     pub units: &'a UnitLabels,
     /// Each prescribed target: its label, its direction (`x` or `y`) and its (displacement,
     /// reaction) at each step.
@@ -104,7 +103,7 @@ impl Figures<'_> {
             });
         }
         if !panels.is_empty() {
-            plots::write_figure(self.out, "pullout", &panels, panels.len().min(2))?;
+            plots::write_figure(self.folder, "pullout", &panels, panels.len().min(2))?;
             figures.push(("pullout".to_string(), "Force against displacement of each prescribed target".to_string()));
         }
         // profiles at the marked steps and the last one
@@ -154,7 +153,7 @@ impl Figures<'_> {
                 },
             ];
             let stem = format!("profiles-{}", name.replace(|c: char| !c.is_ascii_alphanumeric() && c != '-', "-"));
-            plots::write_figure(self.out, &stem, &panels, 2)?;
+            plots::write_figure(self.folder, &stem, &panels, 2)?;
             figures.push((stem, format!("T(x), u(x), τ(x) and σn(x) along {name}")));
         }
         Ok(figures)

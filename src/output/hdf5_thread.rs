@@ -12,7 +12,7 @@
 //! error on the writer thread stops it; the run's thread gets the error at its next hand-over, or
 //! when it finishes.
 
-use super::folder::write_atomically;
+use super::owned_folder::OwnedFolder;
 use super::grids::{GridLayout, StepGrids};
 use super::results_h5::Hdf5Results;
 use crate::analysis::StepRecord;
@@ -48,9 +48,9 @@ enum Job {
     Commit {
         index: bool,
     },
-    /// A whole file of the output folder replaced (`write_atomically`).
+    /// A whole file of the output folder replaced (`OwnedFolder::write`), by its name there.
     File {
-        path: PathBuf,
+        name: String,
         bytes: Vec<u8>,
     },
 }
@@ -72,7 +72,7 @@ impl Hdf5Thread {
     ///
     /// # Errors
     /// [`Error::Write`] naming `results.h5` when no thread can be started.
-    pub fn start(mut results: Hdf5Results, layout: Arc<GridLayout>) -> Result<Self, Error> {
+    pub fn start(mut results: Hdf5Results, layout: Arc<GridLayout>, folder: OwnedFolder) -> Result<Self, Error> {
         let path = results.path().to_path_buf();
         let (jobs, inbox) = sync_channel::<Job>(WAITING * JOBS_PER_STEP);
         let rewrites = Arc::new(AtomicU64::new(0));
@@ -91,14 +91,15 @@ impl Hdf5Thread {
                             results.write_index()?;
                             rewriting.fetch_add(nanoseconds(started), Ordering::Relaxed);
                         }
-                        Job::File { path, bytes } => {
+                        Job::File { name, bytes } => {
                             let started = Instant::now();
-                            write_atomically(&path, &bytes)?;
+                            folder.write(&name, &bytes)?;
                             rewriting.fetch_add(nanoseconds(started), Ordering::Relaxed);
                         }
                     }
                 }
                 results.commit()?;
+                results.close()?;
                 Ok(thread_cpu_seconds())
             })
             .map_err(|source| Error::Write { path: path.clone(), source })?;
@@ -141,8 +142,8 @@ impl Hdf5Thread {
     ///
     /// # Errors
     /// The writer thread's error, if it has stopped.
-    pub fn replace_file(&mut self, path: PathBuf, bytes: Vec<u8>) -> Result<(), Error> {
-        self.send(Job::File { path, bytes })
+    pub fn replace_file(&mut self, name: String, bytes: Vec<u8>) -> Result<(), Error> {
+        self.send(Job::File { name, bytes })
     }
 
     /// Whether the thread takes work: started, and not finished.

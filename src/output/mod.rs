@@ -17,6 +17,7 @@ mod chunk_deflate;
 mod figures;
 mod folder;
 pub mod grids;
+pub mod owned_folder;
 #[cfg(feature = "hdf5")]
 mod h5_arrays;
 #[cfg(feature = "hdf5")]
@@ -34,8 +35,9 @@ pub mod vtk;
 pub mod xdmf;
 
 use figures::{profile, StepProfile};
-use folder::{clear_earlier_run, csv_bytes, num, remove_folder, remove_partial_files, write_error};
-pub use folder::{path_component, write_atomically};
+use folder::{csv_bytes, num};
+pub use folder::path_component;
+pub use owned_folder::OwnedFolder;
 pub use kept_steps::KeptSteps;
 pub use options::OutputOptions;
 pub use summary::{FieldFiles, RunSummary, TargetPeak, Unknowns};
@@ -157,6 +159,8 @@ struct Target {
 /// `history.csv` current.
 pub struct ResultWriter {
     out: PathBuf,
+    /// The output folder's handle: every file of the run is written through it.
+    folder: OwnedFolder,
     units: UnitLabels,
     targets: Vec<Target>,
     history: Vec<Vec<String>>,
@@ -215,9 +219,27 @@ impl ResultWriter {
     /// # Errors
     /// [`Error::Write`] naming what could not be written or cleared in `out`.
     pub fn with_options(model: &Model, out: &Path, solver: &str, options: &OutputOptions) -> Result<Self, Error> {
-        std::fs::create_dir_all(out).map_err(|source| Error::Write { path: out.to_path_buf(), source })?;
-        remove_partial_files(out)?;
-        clear_earlier_run(out)?;
+        let folder = OwnedFolder::open(out, &Self::inputs(model))?;
+        Self::with_folder(model, folder, solver, options)
+    }
+
+    /// The files a run of `model` reads, which its output never replaces or removes: the model
+    /// file and its mesh.
+    pub fn inputs(model: &Model) -> Vec<&Path> {
+        let mut inputs = vec![model.source.as_path()];
+        if let Some(mesh) = &model.mesh_source {
+            inputs.push(mesh.file.as_path());
+        }
+        inputs
+    }
+
+    /// A writer into `folder`, opened already (a run of a series, in its series' folder).
+    ///
+    /// # Errors
+    /// [`Error::Write`] naming what could not be written in the folder.
+    pub fn with_folder(model: &Model, folder: OwnedFolder, solver: &str, options: &OutputOptions) -> Result<Self, Error> {
+        let out = folder.path().to_path_buf();
+        let out = out.as_path();
         let mut targets = Vec::new();
         for stage in &model.stages {
             for &(n, d, _) in &stage.prescribed {
@@ -235,7 +257,7 @@ impl ResultWriter {
         }
         let units = model.unit_labels();
         if let Some(generated) = model.mesh_source.as_ref().and_then(|m| m.generated.as_ref()) {
-            write_atomically(&out.join("mesh.msh"), &generated.msh)?;
+            folder.write("mesh.msh", &generated.msh)?;
         }
         let mut files = Vec::new();
         if options.writes_hdf5() {
@@ -247,7 +269,7 @@ impl ResultWriter {
         let layout = Arc::new(grids::GridLayout::new(model));
         #[allow(unused_mut)] // its HDF5 file is added after the first summary
         let mut writer = ResultWriter {
-            vtk: options.writes_vtu().then(|| vtk::VtkWriter::new(out)),
+            vtk: options.writes_vtu().then(|| vtk::VtkWriter::new(folder.clone())),
             #[cfg(feature = "hdf5")]
             h5: None,
             held: HeldSteps::new(targets.len()),
@@ -260,6 +282,7 @@ impl ResultWriter {
             options: *options,
             layout,
             out: out.to_path_buf(),
+            folder: folder.clone(),
             peak_reaction: vec![(0.0, false); targets.len()],
             peak_displacement: vec![0.0; targets.len()],
             targets,
@@ -337,14 +360,14 @@ impl ResultWriter {
             let history: Vec<results_h5::HistoryTarget<'_>> =
                 labels.iter().map(|(label, direction)| results_h5::HistoryTarget { label, direction }).collect();
             let results = results_h5::Hdf5Results::create(
-                out,
+                &writer.folder,
                 &model.title,
                 &writer.units,
                 &writer.layout,
                 &history,
                 options.precision,
             )?;
-            writer.h5 = Some(hdf5_thread::Hdf5Thread::start(results, writer.layout.clone())?);
+            writer.h5 = Some(hdf5_thread::Hdf5Thread::start(results, writer.layout.clone(), writer.folder.clone())?);
         }
         Ok(writer)
     }
@@ -363,9 +386,15 @@ impl ResultWriter {
             .collect()
     }
 
-    pub fn step_dir(&self, record: &StepRecord) -> PathBuf {
+    /// The output folder, as the user named it.
+    pub fn out(&self) -> &Path {
+        &self.out
+    }
+
+    /// The folder of a step's CSV files, inside the output folder.
+    pub fn step_dir(&self, record: &StepRecord) -> String {
         let name = path_component(&record.stage);
-        self.out.join(format!("stage-{}-{}", record.stage_index + 1, name)).join(format!("step-{:03}", record.step))
+        format!("stage-{}-{}/step-{:03}", record.stage_index + 1, name, record.step)
     }
 
     pub fn write_summary(&mut self) -> Result<(), Error> {
@@ -377,12 +406,11 @@ impl ResultWriter {
     /// `results.h5` thread while a run has one (after what was handed to it, so that the file
     /// never runs ahead of `results.xdmf`), here otherwise.
     fn replace_file(&mut self, name: &str, bytes: Vec<u8>) -> Result<(), Error> {
-        let path = self.out.join(name);
         #[cfg(feature = "hdf5")]
         if let Some(h5) = self.h5.as_mut().filter(|h5| h5.running()) {
-            return h5.replace_file(path, bytes);
+            return h5.replace_file(name.to_string(), bytes);
         }
-        write_atomically(&path, &bytes)
+        self.folder.write(name, &bytes)
     }
 
     /// Mark the run finished (or failed), write the summary a last time, and the report.
@@ -412,7 +440,7 @@ impl ResultWriter {
         self.rewrite_growing_files()?;
         let figures = self.figures().write()?;
         let report = report::markdown(model, &self.summary, &self.history, &self.units, &figures);
-        write_atomically(&self.out.join("report.md"), report.as_bytes())?;
+        self.folder.write("report.md", report.as_bytes())?;
         // once more, with the time the writer took to the end
         self.summary.write_seconds += started.elapsed().as_secs_f64();
         self.write_summary()
@@ -428,16 +456,9 @@ impl ResultWriter {
             // the step's folder appears whole or not at all: written beside it, then renamed into
             // place (over the same step of an earlier run into this folder)
             let dir = self.step_dir(record);
-            let name = dir.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-            let partial = dir.with_file_name(format!(".partial-{name}"));
-            if partial.exists() {
-                std::fs::remove_dir_all(&partial).map_err(write_error(&partial))?;
-            }
+            let partial = self.folder.temporary_folder(&dir)?;
             self.write_step_files(&partial, results)?;
-            if dir.exists() {
-                remove_folder(&dir)?;
-            }
-            std::fs::rename(&partial, &dir).map_err(write_error(&dir))?;
+            self.folder.move_folder(&partial, &dir)?;
         }
         if self.vtk.is_none() && !self.options.writes_hdf5() {
             return Ok(());
@@ -457,12 +478,12 @@ impl ResultWriter {
         self.write_fields(held.time, &held.record, &held.results)
     }
 
-    fn write_step_files(&self, dir: &Path, r: &StepResults) -> Result<(), Error> {
+    fn write_step_files(&self, dir: &str, r: &StepResults) -> Result<(), Error> {
         let u = &self.units;
         let (l, f, s) = (u.length, u.force_per_width.as_str(), u.stress.as_str());
         let h = |names: &[String]| names.to_vec();
-        write_atomically(
-            &dir.join("displacements.csv"),
+        self.folder.write(
+            &format!("{dir}/displacements.csv"),
             &csv_bytes(
                 &h(&["node".into(), format!("x [{l}]"), format!("y [{l}]"), format!("ux [{l}]"), format!("uy [{l}]")]),
                 r.displacements
@@ -471,15 +492,15 @@ impl ResultWriter {
             ),
         )?;
         let opt = |v: Option<f64>| v.map(num).unwrap_or_default();
-        write_atomically(
-            &dir.join("reactions.csv"),
+        self.folder.write(
+            &format!("{dir}/reactions.csv"),
             &csv_bytes(
                 &h(&["node".into(), format!("rx [{f}]"), format!("ry [{f}]")]),
                 r.reactions.iter().map(|re| vec![re.node.to_string(), opt(re.rx), opt(re.ry)]),
             ),
         )?;
-        write_atomically(
-            &dir.join("bar_forces.csv"),
+        self.folder.write(
+            &format!("{dir}/bar_forces.csv"),
             &csv_bytes(
                 &h(&[
                     "bar".into(),
@@ -503,8 +524,8 @@ impl ResultWriter {
                 }),
             ),
         )?;
-        write_atomically(
-            &dir.join("interface.csv"),
+        self.folder.write(
+            &format!("{dir}/interface.csv"),
             &csv_bytes(
                 &h(&[
                     "interface".into(),
@@ -548,8 +569,8 @@ impl ResultWriter {
                 }),
             ),
         )?;
-        write_atomically(
-            &dir.join("stresses.csv"),
+        self.folder.write(
+            &format!("{dir}/stresses.csv"),
             &csv_bytes(
                 &h(&[
                     "element".into(),
@@ -590,7 +611,7 @@ impl StepSink for ResultWriter {
     }
 
     fn checkpoint(&mut self, checkpoint: &crate::analysis::Checkpoint) -> Result<(), Error> {
-        checkpoints::write(&self.out, checkpoint)
+        checkpoints::write(&self.folder, checkpoint)
     }
 
     fn factor_of_safety(&mut self, fs: &crate::analysis::FactorOfSafety) -> Result<(), Error> {
@@ -778,7 +799,7 @@ impl ResultWriter {
             })
             .collect();
         figures::Figures {
-            out: &self.out,
+            folder: &self.folder,
             units: &self.units,
             curves,
             profiles: &self.profiles,

@@ -2,11 +2,11 @@
 //! font library is needed): the pull-out curve of each prescribed target, and T(x), u(x), τ(x) and
 //! σn(x) along each reinforcement at chosen steps (the paper's Figs. 5, 6, 8, 9 and 10).
 
-use super::folder::write_atomically;
+use super::owned_folder::OwnedFolder;
+use image::ImageEncoder;
 use crate::error::Error;
 use plotters::coord::Shift;
 use plotters::prelude::*;
-use std::path::Path;
 use std::sync::Once;
 
 /// One curve: a label and its points.
@@ -135,31 +135,36 @@ fn draw_all<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, panels: &[Panel], 
     root.present().map_err(|e| e.to_string())
 }
 
-/// Write `stem.png` and `stem.svg` in `dir` with the panels on a grid of `columns`.
+/// Write `stem.png` and `stem.svg` in `folder` (`stem` may name a folder inside it too) with the
+/// panels on a grid of `columns`.
 ///
 /// # Errors
 /// [`Error::Write`] naming the file.
-pub fn write_figure(dir: &Path, stem: &str, panels: &[Panel], columns: usize) -> Result<(), Error> {
+pub fn write_figure(folder: &OwnedFolder, stem: &str, panels: &[Panel], columns: usize) -> Result<(), Error> {
     register_font();
     let columns = columns.max(1);
     let rows = panels.len().div_ceil(columns).max(1);
     let size = (640 * columns as u32, 440 * rows as u32);
-    let fail = |path: &Path, message: String| Error::Write {
-        path: path.to_path_buf(),
+    let fail = |name: &str, message: String| Error::Write {
+        path: folder.path().join(name),
         source: std::io::Error::other(message),
     };
-    // SVG: drawn to a string, written atomically
-    let svg_path = dir.join(format!("{stem}.svg"));
+    // SVG: drawn to a string
+    let svg_name = format!("{stem}.svg");
     let mut svg = String::new();
     draw_all(SVGBackend::with_string(&mut svg, size).into_drawing_area(), panels, columns)
-        .map_err(|m| fail(&svg_path, m))?;
-    write_atomically(&svg_path, svg.as_bytes())?;
-    // PNG: drawn to a temporary file in the same folder, then renamed into place
-    let png_path = dir.join(format!("{stem}.png"));
-    let tmp = dir.join(format!(".partial-{stem}.png"));
-    draw_all(BitMapBackend::new(&tmp, size).into_drawing_area(), panels, columns).map_err(|m| fail(&png_path, m))?;
-    std::fs::rename(&tmp, &png_path).map_err(|source| Error::Write { path: png_path.clone(), source })?;
-    Ok(())
+        .map_err(|m| fail(&svg_name, m))?;
+    folder.write(&svg_name, svg.as_bytes())?;
+    // PNG: drawn to an RGB buffer, encoded in memory
+    let png_name = format!("{stem}.png");
+    let mut rgb = vec![0u8; 3 * size.0 as usize * size.1 as usize];
+    draw_all(BitMapBackend::with_buffer(&mut rgb, size).into_drawing_area(), panels, columns)
+        .map_err(|m| fail(&png_name, m))?;
+    let mut png = Vec::new();
+    image::codecs::png::PngEncoder::new(&mut png)
+        .write_image(&rgb, size.0, size.1, image::ColorType::Rgb8)
+        .map_err(|e| fail(&png_name, e.to_string()))?;
+    folder.write(&png_name, &png)
 }
 
 #[cfg(test)]

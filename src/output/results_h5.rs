@@ -43,7 +43,7 @@
 //! this file on a thread of its own (`hdf5_thread.rs`), in the same order.
 
 use super::chunk_deflate::ChunkDeflater;
-use super::folder::write_atomically;
+use super::owned_folder::OwnedFolder;
 use super::grids::{GridLayout, StepGrids};
 use super::h5_arrays::{new_group, number_attr, text_attr, ArrayWriter, DEFLATE_LEVEL};
 use super::options::FieldPrecision;
@@ -83,8 +83,12 @@ pub struct HistoryTarget<'a> {
 
 /// `results.h5` being written, and the kept steps that `results.xdmf` lists.
 pub struct Hdf5Results {
+    /// `results.h5` as messages name it.
     path: PathBuf,
-    xdmf: PathBuf,
+    /// The name HDF5 opens it by: through the output folder's handle.
+    open_path: PathBuf,
+    /// The output folder, which `results.xdmf` is written through.
+    folder: OwnedFolder,
     /// The open file (`None` only when opening it again failed: `reopen`).
     file: Option<hdf5::File>,
     /// Steps written since the file was last opened.
@@ -132,21 +136,18 @@ impl Hdf5Results {
     /// # Errors
     /// [`Error::Write`] naming `results.h5`.
     pub fn create(
-        out: &Path,
+        folder: &OwnedFolder,
         title: &str,
         units: &UnitLabels,
         layout: &GridLayout,
         targets: &[HistoryTarget<'_>],
         precision: FieldPrecision,
     ) -> Result<Self, Error> {
-        let path = out.join(H5_NAME);
+        // made through the folder's handle (no link followed, no foreign file replaced), then
+        // opened by HDF5 through the same handle's folder
+        let open_path = folder.file_for_library(H5_NAME)?;
+        let path = folder.path().join(H5_NAME);
         let fail = h5_error(&path);
-        // an index left beside (by a run of another program, or an earlier run not cleared) must
-        // not name the arrays of the file about to be replaced
-        let xdmf = out.join(XDMF_NAME);
-        if xdmf.exists() {
-            std::fs::remove_file(&xdmf).map_err(|source| Error::Write { path: xdmf.clone(), source })?;
-        }
         // the 1.8 file format: compact groups, and no file-consistency flags (the 1.10 format's
         // would make a file left by a killed run unreadable without h5clear)
         // small chunk-index nodes (most datasets have a chunk or a few), and no modification times
@@ -159,7 +160,7 @@ impl Hdf5Results {
         let file = hdf5::File::with_options()
             .with_fapl(file_access)
             .with_fcpl(|p| p.istore_k(ISTORE_K).obj_track_times(false).file_space_strategy(FileSpaceStrategy::None))
-            .create(&path)
+            .create(&open_path)
             .map_err(&fail)?;
         let compress = hdf5::filters::deflate_available();
         let deflater = RefCell::new(ChunkDeflater::new(DEFLATE_LEVEL).map_err(|e| fail(e.into()))?);
@@ -229,7 +230,8 @@ impl Hdf5Results {
         .map_err(&fail)?;
         drop(group);
         let mut results = Hdf5Results {
-            xdmf,
+            open_path,
+            folder: folder.clone(),
             file: Some(file),
             opened_steps: 0,
             compress,
@@ -322,6 +324,18 @@ impl Hdf5Results {
     ///
     /// # Errors
     /// [`Error::Write`] naming `results.h5` or `results.xdmf`.
+    /// Close the file, and note its size and time in the output folder's record (so that the next
+    /// run removes it only while nobody changed it).
+    ///
+    /// # Errors
+    /// [`Error::Write`] naming `results.h5`.
+    pub fn close(mut self) -> Result<(), Error> {
+        if let Some(file) = self.file.take() {
+            file.close().map_err(h5_error(&self.path))?;
+        }
+        self.folder.record(H5_NAME)
+    }
+
     pub fn commit(&mut self) -> Result<(), Error> {
         self.flush()?;
         self.write_index()
@@ -335,7 +349,7 @@ impl Hdf5Results {
     /// [`Error::Write`] naming `results.h5`.
     pub fn flush(&mut self) -> Result<(), Error> {
         self.file().and_then(|f| f.flush()).map_err(h5_error(&self.path))?;
-        std::fs::File::open(&self.path)
+        std::fs::File::open(&self.open_path)
             .and_then(|f| f.sync_data())
             .map_err(|source| Error::Write { path: self.path.clone(), source })?;
         if self.opened_steps >= STEPS_PER_OPENING {
@@ -353,7 +367,7 @@ impl Hdf5Results {
             // closes the file
             file.close().map_err(&fail)?;
         }
-        let file = hdf5::File::with_options().with_fapl(file_access).open_rw(&self.path).map_err(&fail)?;
+        let file = hdf5::File::with_options().with_fapl(file_access).open_rw(&self.open_path).map_err(&fail)?;
         self.file = Some(file);
         self.opened_steps = 0;
         Ok(())
@@ -370,7 +384,7 @@ impl Hdf5Results {
     /// # Errors
     /// [`Error::Write`] naming `results.xdmf`.
     pub fn write_index(&self) -> Result<(), Error> {
-        write_atomically(&self.xdmf, xdmf::document(H5_NAME, &self.steps).as_bytes())
+        self.folder.write(XDMF_NAME, xdmf::document(H5_NAME, &self.steps).as_bytes())
     }
 
     fn soil_step(&mut self, step: &Group, layout: &GridLayout, grids: &StepGrids) -> hdf5::Result<GridStep> {

@@ -4,9 +4,9 @@
 //! P = 2·L·(c_a + σ·tan φ_a) and the apparent friction angle φ_a is set against the input angle.
 //!
 //! With both faces of an extensible reinforcement at the same strength, the peak pull-out force is
-//! 2·τp·L once the whole embedded length L slides (Yi 1996; `reference/closed-forms.md`).
+//! 2·τp·L once the whole embedded length L slides (Yi 1996; docs/verification.md §2).
 
-use super::{plots, write_atomically, TargetPeak};
+use super::{plots, OwnedFolder, TargetPeak};
 use crate::error::Error;
 use crate::model::{Model, UnitLabels};
 use std::path::Path;
@@ -125,7 +125,7 @@ pub struct SeriesSummary {
 /// # Errors
 /// [`Error::Write`] naming the file.
 pub fn write(
-    out: &Path,
+    out: &OwnedFolder,
     model_path: &Path,
     load: &str,
     units: &UnitLabels,
@@ -178,7 +178,7 @@ pub fn write(
                 .unwrap_or_else(|| "completed".into())
         ));
     }
-    write_atomically(&out.join("series.csv"), csv.as_bytes())?;
+    out.write("series.csv", csv.as_bytes())?;
 
     // envelope plot
     let mut curves = vec![("peaks".to_string(), points.clone())];
@@ -209,8 +209,8 @@ pub fn write(
     let summary =
         SeriesSummary { model: model_path.display().to_string(), load: load.to_string(), cases, pullout, envelope };
     let json = serde_json::to_vec_pretty(&summary).unwrap_or_default();
-    write_atomically(&out.join("series.json"), &json)?;
-    write_atomically(&out.join("report.md"), report(&summary, units, has_plot).as_bytes())?;
+    out.write("series.json", &json)?;
+    out.write("report.md", report(&summary, units, has_plot).as_bytes())?;
     Ok(summary)
 }
 

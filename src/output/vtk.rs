@@ -6,26 +6,24 @@
 //! Points sit at their reference positions; ParaView's *Warp By Vector* on `displacement` shows the
 //! deformed shape.
 
-use super::folder::write_atomically;
+use super::owned_folder::OwnedFolder;
 use super::grids::{GridLayout, StepGrids};
 use crate::error::Error;
 use crate::model::file::SolidKind;
-use std::path::{Path, PathBuf};
 use vtkio::model::{
     Attribute, Attributes, ByteOrder, CellType, Cells, DataSet, UnstructuredGridPiece, Version, VertexNumbers, Vtk,
 };
 
 /// The `.vtu` files of the kept steps and their `.pvd` collection.
 pub struct VtkWriter {
-    dir: PathBuf,
-    pvd: PathBuf,
+    folder: OwnedFolder,
     /// (time, [soil, reinforcement, interface] file names relative to the `.pvd`), in time order.
     steps: Vec<(usize, [String; 3])>,
 }
 
 impl VtkWriter {
-    pub fn new(out: &Path) -> Self {
-        VtkWriter { dir: out.join("vtk"), pvd: out.join("results.pvd"), steps: Vec::new() }
+    pub fn new(folder: OwnedFolder) -> Self {
+        VtkWriter { folder, steps: Vec::new() }
     }
 
     /// Write step number `time` (1, 2, …); the `.pvd` lists it from its next rewrite
@@ -41,7 +39,7 @@ impl VtkWriter {
         ];
         let pieces = [soil(layout, grids), reinforcement(layout, grids), interface(grids)];
         for (grid, name) in pieces.into_iter().zip(&names) {
-            let path = self.dir.join(name);
+            let rel = format!("vtk/{name}");
             let mut bytes = Vec::new();
             let vtk = Vtk {
                 version: Version::new_xml(1, 0),
@@ -51,10 +49,10 @@ impl VtkWriter {
                 file_path: None,
             };
             vtk.write_xml(&mut bytes).map_err(|e| Error::Write {
-                path: path.clone(),
+                path: self.folder.path().join(&rel),
                 source: std::io::Error::other(format!("VTK writer: {e}")),
             })?;
-            write_atomically(&path, &bytes)?;
+            self.folder.write(&rel, &bytes)?;
         }
         let entry = (time, names.map(|n| format!("vtk/{n}")));
         let at = self.steps.partition_point(|(t, _)| *t < time);
@@ -68,7 +66,7 @@ impl VtkWriter {
     /// # Errors
     /// [`Error::Write`] naming the `.pvd`.
     pub fn write_collection(&self) -> Result<(), Error> {
-        write_atomically(&self.pvd, self.collection().as_bytes())
+        self.folder.write("results.pvd", self.collection().as_bytes())
     }
 
     fn collection(&self) -> String {

@@ -81,7 +81,7 @@ pub fn issue_pullout_box() -> geoslip::meshgen::PullOutBox {
 
 /// Assert that the pull-out force of each step from `first` on (1-based, the head moved `step`
 /// further each step) is n_f·τmax·(L − u) of a fully sliding, nearly rigid two-face reinforcement of
-/// embedded length `length` (closed-forms.md §2, large slip), to `tolerance` relative.
+/// embedded length `length` (docs/verification.md §2, large slip), to `tolerance` relative.
 pub fn assert_sliding_plateau(forces: &[f64], first: usize, step: f64, length: f64, tau_max: f64, tolerance: f64) {
     for (k, &force) in forces.iter().enumerate().skip(first - 1) {
         let u = step * (k + 1) as f64;
@@ -266,6 +266,39 @@ scheme = "newton"
     )
 }
 
-/// The Coulomb block of closed-forms.md §4 (see `geoslip::meshgen::block_on_rigid_base`).
+/// The Coulomb block of docs/verification.md §4 (see `geoslip::meshgen::block_on_rigid_base`).
 #[allow(unused_imports)] // (used by some of the test files that share this module)
 pub use geoslip::meshgen::block_on_rigid_base;
+
+/// A sink that keeps every step and every saved state of a run (for the restart tests).
+#[derive(Default)]
+pub struct Saved {
+    pub steps: Collect,
+    pub checkpoints: Vec<analysis::Checkpoint>,
+}
+
+impl analysis::StepSink for Saved {
+    fn step_done(
+        &mut self,
+        step: &analysis::results::StepResults,
+        record: &analysis::StepRecord,
+        stats: &geoslip::linsol::linear_system::SolverStats,
+    ) -> Result<(), geoslip::Error> {
+        self.steps.step_done(step, record, stats)
+    }
+    fn keeps_checkpoints(&self) -> bool {
+        true
+    }
+    fn checkpoint(&mut self, checkpoint: &analysis::Checkpoint) -> Result<(), geoslip::Error> {
+        self.checkpoints.push(checkpoint.clone());
+        Ok(())
+    }
+}
+
+/// Write `checkpoints` into the results folder `dir` as a run writes them.
+pub fn write_saved_steps(dir: &Path, checkpoints: &[analysis::Checkpoint]) {
+    let folder = geoslip::output::OwnedFolder::open(dir, &[]).unwrap();
+    for c in checkpoints {
+        geoslip::output::checkpoints::write(&folder, c).unwrap();
+    }
+}
