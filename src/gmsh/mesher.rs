@@ -16,7 +16,7 @@
 //! (no Landlock, or one too old for the rules above), a `.geo` is meshed only with `--trust-geo`.
 
 use super::confinement::{self, Limits};
-use super::{err, GmshError, GmshMesh};
+use super::types::{err, GmshError, GmshMesh};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -123,7 +123,7 @@ pub fn mesh_geometry(geometry: &Path, options: MeshingOptions) -> Result<(GmshMe
     }
     let bytes = crate::input_file::read_not_linked(&out, memory)
         .map_err(|e| err(geometry, None, format!("cannot read gmsh's output: {e}")))?;
-    super::check_declared_size(geometry, &bytes, options.memory_limit_mb.or_else(crate::linsol::available_memory_mb))?;
+    super::read::check_declared_size(geometry, &bytes, options.memory_limit_mb.or_else(crate::linsol::available_memory_mb))?;
     let mut mesh = GmshMesh::from_bytes(&out, &bytes)?;
     mesh.path = geometry.to_path_buf();
     Ok((mesh, GeneratedMesh { geometry: geometry.to_path_buf(), gmsh_version: version_text, msh: bytes }))

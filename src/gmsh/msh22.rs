@@ -1,7 +1,7 @@
 //! Format 2.2, ASCII (Gmsh reference manual, §10.3 "Legacy formats"): `$Nodes` rows `tag x y z`;
 //! `$Elements` rows `tag type ntags physical elementary [partitions…] nodes…`.
 
-use super::{err, GmshElement, GmshError, GmshKind, GmshMesh, Groups};
+use super::types::{err, GmshElement, GmshError, GmshKind, GmshMesh, Groups};
 use std::collections::BTreeMap;
 use std::path::Path;
 
@@ -32,7 +32,7 @@ pub(super) fn read(path: &Path, bytes: &[u8], names: &BTreeMap<(usize, i64), Str
         }
         nodes.push((tag, x));
     }
-    super::refuse_duplicate_nodes(path, &nodes)?;
+    super::types::refuse_duplicate_nodes(path, &nodes)?;
     if let Some(start) = section("$Elements") {
         let count = parse_count(path, &lines, start + 1)?;
         let mut seen = std::collections::HashSet::new();

@@ -7,7 +7,7 @@
 //! count in a header is never trusted for an allocation: every block is read item by item, and the
 //! file ends before any count larger than it could hold is reached.
 
-use super::{err, line_of, GmshElement, GmshError, GmshKind, GmshMesh, Groups};
+use super::types::{err, line_of, GmshElement, GmshError, GmshKind, GmshMesh, Groups};
 use std::collections::BTreeMap;
 use std::path::Path;
 
@@ -121,7 +121,7 @@ fn section(bytes: &[u8], name: &str) -> Option<(usize, usize)> {
     // a header is `$Name` alone on its line (binary data may contain the bytes by chance, but a
     // section starts where the text says it does: the first header that is a whole line)
     let start = loop {
-        let p = super::find(&bytes[from..], head.as_bytes())? + from;
+        let p = super::types::find(&bytes[from..], head.as_bytes())? + from;
         let after = p + head.len();
         match bytes.get(after) {
             Some(b'\n') => break after + 1,
@@ -129,7 +129,7 @@ fn section(bytes: &[u8], name: &str) -> Option<(usize, usize)> {
             _ => from = after,
         }
     };
-    let stop = super::rfind(&bytes[start..], end.as_bytes()).map(|p| p + start + 1)?;
+    let stop = super::types::rfind(&bytes[start..], end.as_bytes()).map(|p| p + start + 1)?;
     Some((start, stop))
 }
 
@@ -248,7 +248,7 @@ fn nodes(c: &mut Cursor) -> Result<Vec<(u64, [f64; 3])>, GmshError> {
     if nodes.len() != total {
         return Err(c.fail(format!("$Nodes declares {total} nodes and its blocks hold {}", nodes.len())));
     }
-    super::refuse_duplicate_nodes(c.path, &nodes)?;
+    super::types::refuse_duplicate_nodes(c.path, &nodes)?;
     Ok(nodes)
 }
 

@@ -259,6 +259,16 @@ pub(super) fn free_positions(
         problems.check()?;
     }
     let count = count as usize;
+    // each free bar as long as a millionth of the first segment at least: a shorter one puts its
+    // nodes on one point in floating point (a bar of no length, no axis)
+    if length / (count as f64) < 1e-6 * segment {
+        let mut problems = GeometryProblems::default();
+        problems.push(
+            "free_length",
+            format!("{length} is too short for a bar: at least a millionth of the first segment ({segment}), or none"),
+        );
+        problems.check()?;
+    }
     let d = unit(back);
     Ok((0..count)
         .map(|k| {

@@ -511,12 +511,24 @@ fn parse_schema(path: &Path, text: &str) -> Result<ModelFile, Error> {
             .map_err(|e| fail(e.path().to_string(), shorten_lines(&e.into_inner().to_string())))
     } else {
         let de = toml::Deserializer::parse(text).map_err(|e| fail(String::new(), shorten_lines(&e.to_string())))?;
-        serde_path_to_error::deserialize(de).map_err(|e| {
+        let file = serde_path_to_error::deserialize(de).map_err(|e| {
             let field = e.path().to_string();
             let mut inner = e.into_inner();
             inner.set_input(Some(text)); // so that the message shows the line and column
             fail(field, shorten_lines(&inner.to_string()))
-        })
+        })?;
+        // the same tree read as JSON is read: TOML's reader takes a row longer than its fields (a
+        // node `[1, 0.0, 0.0, 7.0]` read as `[1, 0.0, 0.0]`), JSON's refuses it, and a model must
+        // mean one thing in either form
+        // (only the rows' lengths are in question here: JSON has no NaN, so a NaN the model file
+        // holds, which validation names, is a null in the tree)
+        let tree: serde_json::Value = toml::from_str(text).map_err(|e| fail(String::new(), shorten_lines(&e.to_string())))?;
+        match serde_path_to_error::deserialize::<_, ModelFile>(tree) {
+            Err(e) if e.inner().to_string().contains("invalid length") => {
+                Err(fail(e.path().to_string(), format!("{}: a row holds more values than its fields", e.into_inner())))
+            }
+            _ => Ok(file),
+        }
     }
 }
 

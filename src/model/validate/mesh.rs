@@ -107,6 +107,26 @@ pub(super) fn mesh(d: &mut Draft, file: &ModelFile, p: &mut Problems) {
                 None if reduced => mapped_points(e.kind, &coords, Integration::Reduced, Geometry::PlaneStrain).err(),
                 full => full,
             };
+            // then in the run's own formulation: an axisymmetric element must have every Gauss
+            // point right of the axis (the run divides by the radius there)
+            let axis = match bad {
+                None if mesh.geometry.is_axisymmetric() => [Integration::Full]
+                    .into_iter()
+                    .chain(reduced.then_some(Integration::Reduced))
+                    .find_map(|rule| mapped_points(e.kind, &coords, rule, mesh.geometry).err()),
+                _ => None,
+            };
+            if let Some(BadJacobian { det }) = axis {
+                p.push(
+                    format!("{field}.nodes"),
+                    &entity,
+                    format!(
+                        "has a Gauss point at radius {det:.3e}, on or left of the axis: an axisymmetric model divides by the \
+                         radius there (an element touching the axis must be at least as wide as its other sides are long; \
+                         refine the mesh along the axis, or move the element right of it)"
+                    ),
+                );
+            }
             if let Some(BadJacobian { det }) = bad {
                 let msg = if reduced {
                     "is too distorted for reduced integration: its Jacobian is not positive at a 2×2 Gauss point \
