@@ -235,6 +235,10 @@ pub fn reinforcement_balance(model: &Model, results: &StepResults, state: &State
         neighbours[a].push(b);
         neighbours[b].push(a);
     }
+    // the model's force scale: a reinforcement that carries nothing yet (a grid just placed) has
+    // an applied force and interface forces of round-off, whose ratio means nothing
+    let largest = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let floor = 1e-9 * largest(&results.reaction_vector).max(largest(&state.f_ext));
     let mut out = Vec::new();
     let mut k = 0usize;
     for interface in &state.interfaces {
@@ -299,7 +303,8 @@ pub fn reinforcement_balance(model: &Model, results: &StepResults, state: &State
             applied,
             interface_force: [-carried[0], -carried[1]],
             bearing_force: has_bearing.then_some([-bearing_carried[0], -bearing_carried[1]]),
-            mismatch: if size > 0.0 { diff / size } else { diff },
+            // relative to the applied force, or to the model's force scale below it
+            mismatch: if size.max(floor) > 0.0 { diff / size.max(floor) } else { diff },
         });
     }
     out

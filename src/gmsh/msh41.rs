@@ -114,7 +114,7 @@ impl<'a> Cursor<'a> {
 }
 
 /// The byte range of section `name` (after its header line, up to its `$End` line).
-fn section(bytes: &[u8], name: &str) -> Option<(usize, usize)> {
+fn section(bytes: &[u8], name: &str) -> Option<(usize, Option<usize>)> {
     let head = format!("\n${name}");
     let end = format!("\n$End{name}");
     let mut from = 0;
@@ -129,8 +129,21 @@ fn section(bytes: &[u8], name: &str) -> Option<(usize, usize)> {
             _ => from = after,
         }
     };
-    let stop = super::types::rfind(&bytes[start..], end.as_bytes()).map(|p| p + start + 1)?;
+    let stop = super::types::rfind(&bytes[start..], end.as_bytes()).map(|p| p + start + 1);
     Some((start, stop))
+}
+
+/// The byte range of section `name`: `None` when the file has none; an error when it has no end.
+fn whole_section(path: &Path, bytes: &[u8], name: &str) -> Result<Option<(usize, usize)>, GmshError> {
+    match section(bytes, name) {
+        None => Ok(None),
+        Some((start, Some(stop))) => Ok(Some((start, stop))),
+        Some((start, None)) => Err(err(
+            path,
+            Some(line_of(bytes, start)),
+            format!("the ${name} section has no $End{name}: the file is cut short"),
+        )),
+    }
 }
 
 pub(super) fn read(
@@ -151,16 +164,16 @@ pub(super) fn read(
     }
     let cursor_at = |(start, end): (usize, usize)| Cursor { path, bytes: &bytes[..end], at: start, binary };
 
-    let entity_groups = match section(bytes, "Entities") {
+    let entity_groups = match whole_section(path, bytes, "Entities")? {
         Some(range) => entities(&mut cursor_at(range))?,
         None => BTreeMap::new(),
     };
-    let Some(node_range) = section(bytes, "Nodes") else {
+    let Some(node_range) = whole_section(path, bytes, "Nodes")? else {
         return Err(err(path, None, "the file has no $Nodes section".into()));
     };
     let nodes = nodes(&mut cursor_at(node_range))?;
     let mut groups = Groups::default();
-    let elements = match section(bytes, "Elements") {
+    let elements = match whole_section(path, bytes, "Elements")? {
         Some(range) => elements(&mut cursor_at(range), &entity_groups, &mut groups, names)?,
         None => Vec::new(),
     };
@@ -173,7 +186,9 @@ pub(super) fn read(
 /// A binary file starts with `4.1 1 8`, then the integer 1 in the writer's byte order: geoslip
 /// reads little-endian files with 8-byte sizes (what Gmsh writes on every platform it runs on).
 fn check_binary_header(path: &Path, bytes: &[u8]) -> Result<(), GmshError> {
-    let line_end = bytes.iter().skip(12).position(|&b| b == b'\n').map(|p| p + 12);
+    // the end of the second line (`4.1 1 8`), after `$MeshFormat` and its line end
+    let first = bytes.iter().position(|&b| b == b'\n');
+    let line_end = first.and_then(|f| bytes.iter().skip(f + 1).position(|&b| b == b'\n').map(|p| p + f + 1));
     let Some(end) = line_end else { return Err(err(path, Some(2), "the $MeshFormat line does not end".into())) };
     let one = bytes.get(end + 1..end + 5).map(|b| i32::from_le_bytes(b.try_into().expect("4 bytes")));
     match one {

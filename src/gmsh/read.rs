@@ -136,7 +136,14 @@ pub fn declared_counts(bytes: &[u8]) -> Option<(usize, usize)> {
 
 /// Where the line after a section header starts.
 fn section_start(bytes: &[u8], header: &[u8]) -> Option<usize> {
-    bytes.windows(header.len()).position(|w| w == header).map(|p| p + header.len())
+    // a header given with its `\n`, found also when the file's lines end in `\r\n`
+    let name = header.strip_suffix(b"\n").unwrap_or(header);
+    let at = bytes.windows(name.len()).position(|w| w == name)? + name.len();
+    match bytes.get(at..at + 2) {
+        Some(b"\r\n") => Some(at + 2),
+        _ if bytes.get(at) == Some(&b'\n') => Some(at + 1),
+        _ => None,
+    }
 }
 
 /// Refuse a mesh whose declared size would not fit: the model built on it (as if every element

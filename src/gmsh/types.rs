@@ -84,7 +84,19 @@ impl GmshKind {
             GmshKind::Point => Some(0),
             GmshKind::Line2 | GmshKind::Line3 => Some(1),
             GmshKind::Tri3 | GmshKind::Tri6 | GmshKind::Quad4 | GmshKind::Quad8 => Some(2),
-            GmshKind::Other(_) => None,
+            GmshKind::Other(code) => GmshKind::dim_of_code(code),
+        }
+    }
+
+    /// The dimension of every Gmsh element type up to third order (the reference manual's
+    /// §10.2), so that a group of elements geoslip does not use still has its own dimension.
+    pub(super) fn dim_of_code(code: u32) -> Option<usize> {
+        match code {
+            15 => Some(0),
+            1 | 8 | 26 | 27 | 28 => Some(1),
+            2 | 3 | 9 | 10 | 16 | 20 | 21 | 22 | 23 | 24 | 25 => Some(2),
+            4 | 5 | 6 | 7 | 11 | 12 | 13 | 14 | 17 | 18 | 19 | 29 | 30 | 31 | 92 | 93 => Some(3),
+            _ => None,
         }
     }
 

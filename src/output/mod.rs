@@ -678,12 +678,13 @@ impl StepSink for ResultWriter {
             let (peak, reported) = self.peak_reaction[ti];
             if peak > 0.0 && !reported && reaction.abs() < 0.98 * peak {
                 self.summary.events.push(format!(
-                    "{when}: the reaction on {} ({}) fell to {:.4} from its peak {:.4} at displacement {:.5}",
+                    "{when}: the reaction on {} ({}) fell to {:.4} at displacement {:.5}, from its peak {:.4} at displacement {:.5}",
                     t.label,
                     if t.direction == Direction::X { "x" } else { "y" },
                     reaction.abs(),
+                    mean_u,
                     peak,
-                    mean_u
+                    self.peak_displacement[ti]
                 ));
                 self.peak_reaction[ti].1 = true; // once per peak
                 event = true;

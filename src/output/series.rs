@@ -249,10 +249,9 @@ fn report(summary: &SeriesSummary, units: &UnitLabels, has_plot: bool) -> String
                  - Apparent adhesion ca = {:.3} {s}. It includes the weight of the soil above the reinforcement \
                  (γ·h·tan φ) and any cohesion (input {}).\n\n\
                  A difference in φa comes from the normal stress on the reinforcement differing from the applied \
-                 value (relaxation at the front wall and slot, arching in the box), from the reinforcement's tail \
-                 (its soil node is shared with the soil behind it, so half a segment there carries no contact \
-                 stress) and from the embedded length shrinking by the tail's slip before the whole length \
-                 slides. The run reports' σn(x) plots show the first two.\n",
+                 value (relaxation at the front wall and slot, arching in the box) and from the embedded length \
+                 shrinking by the tail's slip before the whole length slides. The run reports' σn(x) plots \
+                 show the first.\n",
                 e.slope,
                 e.intercept,
                 e.apparent_friction_angle_deg,
