@@ -5,6 +5,7 @@
 
 use super::error::CalibrationError;
 use super::spec::TestKind;
+use std::collections::HashMap;
 use std::path::Path;
 
 /// The most rows a curve file may have.
@@ -113,6 +114,9 @@ pub fn parse(path: &Path, text: &str, kind: TestKind) -> Result<Vec<Curve>, Cali
         columns.push((index, title.to_string(), factor));
     }
     let mut curves: Vec<Curve> = Vec::new();
+    // each condition's curve, by the condition's bits (+0.0 for −0.0, which compares equal to it):
+    // one look-up per row, not a search of every curve so far
+    let mut index: HashMap<u64, usize> = HashMap::new();
     for (row, record) in reader.records().enumerate() {
         let line = record.as_ref().ok().and_then(|r| r.position()).map(|p| p.line() as usize).unwrap_or(row + 2);
         if row >= MAX_ROWS {
@@ -136,13 +140,7 @@ pub fn parse(path: &Path, text: &str, kind: TestKind) -> Result<Vec<Curve>, Cali
                 format!("a negative normal stress ({}): compression is positive", values[0]),
             ));
         }
-        match curves.iter_mut().find(|c| c.condition == values[0]) {
-            Some(c) => {
-                c.x.push(values[1]);
-                c.y.push(values[2]);
-            }
-            None => curves.push(Curve { condition: values[0], x: vec![values[1]], y: vec![values[2]] }),
-        }
+        push_point(&mut curves, &mut index, values);
     }
     if curves.is_empty() {
         return Err(error(None, None, "no data rows".into()));
@@ -162,6 +160,18 @@ pub fn parse(path: &Path, text: &str, kind: TestKind) -> Result<Vec<Curve>, Cali
         }
     }
     Ok(curves)
+}
+
+/// Add the point (x, y) = `values[1..]` to the curve of the condition `values[0]`, opening one for a
+/// condition not seen before (curves in the order their first rows come).
+fn push_point(curves: &mut Vec<Curve>, index: &mut HashMap<u64, usize>, values: [f64; 3]) {
+    let key = (values[0] + 0.0).to_bits();
+    let k = *index.entry(key).or_insert_with(|| {
+        curves.push(Curve { condition: values[0] + 0.0, x: Vec::new(), y: Vec::new() });
+        curves.len() - 1
+    });
+    curves[k].x.push(values[1]);
+    curves[k].y.push(values[2]);
 }
 
 #[cfg(test)]
@@ -193,5 +203,34 @@ mod tests {
         let text = "surcharge [kPa],displacement [mm],force [kN/m]\n10,0,0\n10,1,1\n";
         let e = parse(Path::new("po.csv"), text, TestKind::PullOut).unwrap_err();
         assert!(e.to_string().contains("the curve at 10 kPa has 2 points"), "{e}");
+    }
+
+    /// Rows of `curves` conditions, `points` each, interleaved (row k is point k / curves of the
+    /// curve k % curves, at σn = 1 + (k % curves)/100 kPa), or curve after curve.
+    fn many_curves(curves: usize, points: usize, interleaved: bool) -> String {
+        let mut text = String::from("normal_stress [kPa],slip [mm],shear_stress [kPa]\n");
+        for k in 0..curves * points {
+            let (curve, point) = if interleaved { (k % curves, k / curves) } else { (k / points, k % points) };
+            text.push_str(&format!("{},{point},{}\n", 1.0 + curve as f64 / 100.0, curve));
+        }
+        text
+    }
+
+    #[test]
+    fn interleaved_rows_of_many_conditions_form_one_curve_each_in_the_order_they_first_come() {
+        // 5000 curves of 3 points, their rows taken in turn: every curve gets its own 3 points in
+        // order, whatever lies between them
+        let curves = parse(Path::new("ds.csv"), &many_curves(5000, 3, true), TestKind::DirectShear).unwrap();
+        assert_eq!(curves.len(), 5000);
+        for (k, c) in curves.iter().enumerate() {
+            assert_eq!(c.condition, 1.0 + k as f64 / 100.0, "curve {k}");
+            assert_eq!(c.x, vec![0.0, 1e-3, 2e-3], "curve {k}");
+            assert_eq!(c.y, vec![k as f64; 3], "curve {k}");
+        }
+        // −0 kPa is the curve at 0 kPa
+        let text = "normal_stress [kPa],slip [mm],shear_stress [kPa]\n0,0,0\n-0,1,1\n0.0,2,2\n";
+        let curves = parse(Path::new("ds.csv"), text, TestKind::DirectShear).unwrap();
+        assert_eq!(curves.len(), 1);
+        assert_eq!(curves[0].y, vec![0.0, 1.0, 2.0]);
     }
 }

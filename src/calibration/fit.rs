@@ -5,6 +5,12 @@
 //!
 //! The parameters are fitted as θ = value / scale (scales from the starting values) so that one step
 //! length suits them all; the Jacobian is taken by central differences in θ.
+//!
+//! Each parameter has a closed range (the values its law accepts): the residuals are only ever
+//! evaluated with every parameter in its range, a trial beyond it at the nearest bound, and a
+//! difference at a bound is taken one-sided, into the range. A parameter that ends at a bound (the
+//! data would take it further) is held there: it has no standard error, and the statistics are those
+//! of the others.
 
 use super::error::CalibrationError;
 use levenberg_marquardt::{LeastSquaresProblem, LevenbergMarquardt};
@@ -23,10 +29,15 @@ pub const IDENTIFIABLE: f64 = 1e-6;
 /// The least-squares fit of the free parameters.
 #[derive(Debug, Clone)]
 pub struct LeastSquares {
+    /// Every free parameter's value, in its range.
     pub values: Vec<f64>,
-    pub standard_errors: Vec<f64>,
-    /// 95 % confidence intervals.
-    pub intervals: Vec<(f64, f64)>,
+    /// Whether the parameter ended at a bound of its range (then without a standard error).
+    pub at_bound: Vec<bool>,
+    /// `None` for a parameter at a bound.
+    pub standard_errors: Vec<Option<f64>>,
+    /// 95 % confidence intervals; `None` for a parameter at a bound.
+    pub intervals: Vec<Option<(f64, f64)>>,
+    /// Correlation between the parameters not at a bound, in their order.
     pub correlation: Vec<Vec<f64>>,
     /// Root mean square of the residuals (as the residual function gives them: weighted).
     pub rms: f64,
@@ -40,6 +51,8 @@ pub struct LeastSquares {
 struct Problem<'a> {
     residuals: &'a Residuals<'a>,
     scale: Vec<f64>,
+    /// Each parameter's range in θ.
+    range: Vec<(f64, f64)>,
     theta: LmVector<f64>,
     step: f64,
     failure: RefCell<Option<CalibrationError>>,
@@ -47,8 +60,15 @@ struct Problem<'a> {
 }
 
 impl Problem<'_> {
+    /// θ held in its range (`max`/`min`, not `clamp`: a NaN goes to the lower bound, never panics;
+    /// `+ 0.0` makes a −0 at a bound of 0 a 0).
+    fn held(&self, theta: &[f64]) -> Vec<f64> {
+        theta.iter().zip(&self.range).map(|(t, &(lo, hi))| t.max(lo).min(hi) + 0.0).collect()
+    }
+
+    /// The parameters' values of θ, each in its range.
     fn values(&self, theta: &[f64]) -> Vec<f64> {
-        theta.iter().zip(&self.scale).map(|(t, s)| t * s).collect()
+        self.held(theta).iter().zip(&self.scale).map(|(t, s)| t * s).collect()
     }
 
     fn evaluate(&self, theta: &[f64]) -> Option<Vec<f64>> {
@@ -63,17 +83,37 @@ impl Problem<'_> {
         }
     }
 
-    /// ∂r/∂θ by central differences.
+    /// ∂r/∂θ by central differences; one-sided, into the range, for a parameter in its range
+    /// within a step of a bound. (Beyond its range, where the residuals are those at the bound, the
+    /// difference is that of the residuals as evaluated: zero once both sides are beyond.)
     fn jacobian_at(&self, theta: &[f64]) -> Option<DMatrix<f64>> {
         let mut columns = Vec::with_capacity(theta.len());
+        let mut rows = None;
         for k in 0..theta.len() {
             let h = self.step * theta[k].abs().max(1.0);
-            let mut plus = theta.to_vec();
-            plus[k] += h;
-            let mut minus = theta.to_vec();
-            minus[k] -= h;
-            let (rp, rm) = (self.evaluate(&plus)?, self.evaluate(&minus)?);
-            columns.push(DVector::from_iterator(rp.len(), rp.iter().zip(&rm).map(|(p, m)| (p - m) / (2.0 * h))));
+            let (lo, hi) = self.range[k];
+            let (mut up, mut down) = (theta[k] + h, theta[k] - h);
+            if (lo..=hi).contains(&theta[k]) {
+                up = up.min(hi).max(theta[k]);
+                down = down.max(lo).min(theta[k]);
+            }
+            let column = if up > down {
+                let mut plus = theta.to_vec();
+                plus[k] = up;
+                let mut minus = theta.to_vec();
+                minus[k] = down;
+                let (rp, rm) = (self.evaluate(&plus)?, self.evaluate(&minus)?);
+                DVector::from_iterator(rp.len(), rp.iter().zip(&rm).map(|(p, m)| (p - m) / (up - down)))
+            } else {
+                // a range narrower than the step's round-off: the parameter cannot move
+                let m = match rows {
+                    Some(m) => m,
+                    None => self.evaluate(theta)?.len(),
+                };
+                DVector::zeros(m)
+            };
+            rows = Some(column.len());
+            columns.push(column);
         }
         Some(DMatrix::from_columns(&columns))
     }
@@ -102,9 +142,11 @@ impl LeastSquaresProblem<f64, Dyn, Dyn> for Problem<'_> {
     }
 }
 
-/// Fit `names` (the free parameters) from `start`, with `step` the relative step of the central
-/// differences (1e-6 for closed forms; larger for a finite-element model, whose equilibrium is
-/// converged to a tolerance).
+/// Fit `names` (the free parameters) from `start`, each held in its closed range `bounds` (lower,
+/// upper; infinite for none), with `scale` (positive) the size of each, and `step` the relative step
+/// of the central differences (1e-6 for closed forms; larger for a finite-element model, whose
+/// equilibrium is converged to a tolerance). `residuals` is only ever called with every value in
+/// its range.
 ///
 /// # Errors
 /// [`CalibrationError::Unidentifiable`] when the data cannot tell the parameters apart (or one has
@@ -115,12 +157,18 @@ pub fn least_squares(
     names: &[String],
     start: &[f64],
     scale: &[f64],
+    bounds: &[(f64, f64)],
     step: f64,
 ) -> Result<LeastSquares, CalibrationError> {
+    let range: Vec<(f64, f64)> = bounds.iter().zip(scale).map(|(&(lo, hi), s)| (lo / s, hi / s)).collect();
     let problem = Problem {
         residuals,
         scale: scale.to_vec(),
-        theta: LmVector::from_iterator(start.len(), start.iter().zip(scale).map(|(v, s)| v / s)),
+        theta: LmVector::from_iterator(
+            start.len(),
+            start.iter().zip(scale).zip(&range).map(|((v, s), &(lo, hi))| (v / s).max(lo).min(hi)),
+        ),
+        range,
         step,
         failure: RefCell::new(None),
         evaluations: RefCell::new(0),
@@ -130,7 +178,10 @@ pub fn least_squares(
     if let Some(e) = problem.failure.borrow_mut().take() {
         return Err(e);
     }
-    let theta: Vec<f64> = problem.theta.iter().copied().collect();
+    // where the iteration ended, held in the ranges: a parameter there at a bound stays at it
+    let ended: Vec<f64> = problem.theta.iter().copied().collect();
+    let theta = problem.held(&ended);
+    let at_bound: Vec<bool> = theta.iter().zip(&problem.range).map(|(&t, &(lo, hi))| t <= lo || t >= hi).collect();
     let r = problem.evaluate(&theta).ok_or_else(|| CalibrationError::NotConverged {
         evaluations,
         reason: "the model gives no finite curve at the last parameters".into(),
@@ -139,35 +190,49 @@ pub fn least_squares(
         evaluations,
         reason: "the model gives no finite curve next to the last parameters".into(),
     })?;
+    // every free parameter, those at a bound too (their one-sided effect): c at 0 and φ at one
+    // normal stress are still told apart only together
     identifiable(&j, names)?;
     if !report.termination.was_successful() {
         return Err(CalibrationError::NotConverged { evaluations, reason: format!("{:?}", report.termination) });
     }
-    let (m, p) = (r.len(), theta.len());
+    // the statistics of the parameters not at a bound
+    let estimated: Vec<usize> = (0..theta.len()).filter(|&k| !at_bound[k]).collect();
+    let (m, p) = (r.len(), estimated.len());
     if m <= p {
         return Err(CalibrationError::Unidentifiable {
-            parameters: names.to_vec(),
+            parameters: estimated.iter().map(|&k| names[k].clone()).collect(),
             reason: format!("{m} measured points for {p} parameters"),
         });
     }
     let sse: f64 = r.iter().map(|v| v * v).sum();
     let dof = m - p;
     let s2 = sse / dof as f64;
-    let jtj = j.transpose() * &j;
-    let inverse = jtj.clone().try_inverse().ok_or_else(|| CalibrationError::Unidentifiable {
-        parameters: names.to_vec(),
-        reason: "JᵀJ is singular".into(),
-    })?;
+    let je = DMatrix::from_fn(m, p, |row, c| j[(row, estimated[c])]);
+    let jtj = je.transpose() * &je;
+    let inverse = if p == 0 {
+        DMatrix::zeros(0, 0)
+    } else {
+        jtj.try_inverse().ok_or_else(|| CalibrationError::Unidentifiable {
+            parameters: estimated.iter().map(|&k| names[k].clone()).collect(),
+            reason: "JᵀJ is singular".into(),
+        })?
+    };
     let values = problem.values(&theta);
-    let cov = DMatrix::from_fn(p, p, |a, b| s2 * inverse[(a, b)] * scale[a] * scale[b]);
-    let standard_errors: Vec<f64> = (0..p).map(|k| cov[(k, k)].max(0.0).sqrt()).collect();
+    let se_scale: Vec<f64> = estimated.iter().map(|&k| scale[k]).collect();
+    let cov = DMatrix::from_fn(p, p, |a, b| s2 * inverse[(a, b)] * se_scale[a] * se_scale[b]);
+    let errors: Vec<f64> = (0..p).map(|a| cov[(a, a)].max(0.0).sqrt()).collect();
     let t_quantile = StudentsT::new(0.0, 1.0, dof as f64).map(|t| t.inverse_cdf(0.975)).unwrap_or(1.959964);
-    let intervals =
-        values.iter().zip(&standard_errors).map(|(v, se)| (v - t_quantile * se, v + t_quantile * se)).collect();
-    let correlation =
-        (0..p).map(|a| (0..p).map(|b| cov[(a, b)] / (standard_errors[a] * standard_errors[b])).collect()).collect();
+    let mut standard_errors = vec![None; theta.len()];
+    let mut intervals = vec![None; theta.len()];
+    for (a, &k) in estimated.iter().enumerate() {
+        standard_errors[k] = Some(errors[a]);
+        intervals[k] = Some((values[k] - t_quantile * errors[a], values[k] + t_quantile * errors[a]));
+    }
+    let correlation = (0..p).map(|a| (0..p).map(|b| cov[(a, b)] / (errors[a] * errors[b])).collect()).collect();
     Ok(LeastSquares {
         values,
+        at_bound,
         standard_errors,
         intervals,
         correlation,
@@ -238,7 +303,8 @@ mod tests {
         let y: Vec<f64> =
             x.iter().enumerate().map(|(i, x)| 2.0 + 0.5 * x + if i % 2 == 0 { 0.1 } else { -0.1 }).collect();
         let residuals = |p: &[f64]| Ok(x.iter().zip(&y).map(|(x, y)| p[0] + p[1] * x - y).collect());
-        let fit = least_squares(&residuals, &["a".into(), "b".into()], &[1.0, 1.0], &[1.0, 1.0], 1e-6).unwrap();
+        let free = [(f64::NEG_INFINITY, f64::INFINITY); 2];
+        let fit = least_squares(&residuals, &["a".into(), "b".into()], &[1.0, 1.0], &[1.0, 1.0], &free, 1e-6).unwrap();
         // least squares on the data directly
         let n = 10.0;
         let (xm, ym) = (x.iter().sum::<f64>() / n, y.iter().sum::<f64>() / n);
@@ -247,7 +313,8 @@ mod tests {
         let a = ym - b * xm;
         let s2: f64 = x.iter().zip(&y).map(|(x, y)| (a + b * x - y).powi(2)).sum::<f64>() / (n - 2.0);
         assert!((fit.values[0] - a).abs() < 1e-8 && (fit.values[1] - b).abs() < 1e-8, "{fit:?}");
-        assert!((fit.standard_errors[1] - (s2 / sxx).sqrt()).abs() < 1e-6 * (s2 / sxx).sqrt());
+        assert!((fit.standard_errors[1].unwrap() - (s2 / sxx).sqrt()).abs() < 1e-6 * (s2 / sxx).sqrt());
+        assert_eq!(fit.at_bound, vec![false, false]);
         // t(0.975, 8) = 2.306004
         assert!((fit.t_quantile - 2.306004).abs() < 1e-5);
     }
@@ -256,10 +323,43 @@ mod tests {
     fn two_parameters_that_act_only_together_are_named() {
         let x: Vec<f64> = (0..10).map(f64::from).collect();
         let residuals = |p: &[f64]| Ok(x.iter().map(|x| (p[0] + p[1]) * x - 3.0 * x).collect());
-        let e = least_squares(&residuals, &["c".into(), "d".into()], &[1.0, 1.0], &[1.0, 1.0], 1e-6).unwrap_err();
+        let free = [(f64::NEG_INFINITY, f64::INFINITY); 2];
+        let e =
+            least_squares(&residuals, &["c".into(), "d".into()], &[1.0, 1.0], &[1.0, 1.0], &free, 1e-6).unwrap_err();
         match e {
             CalibrationError::Unidentifiable { parameters, .. } => assert_eq!(parameters, vec!["c", "d"]),
             other => panic!("{other}"),
         }
+    }
+
+    /// y = a + b·x with a ≥ 0 on data of the line −1 + 0.5·x (x = 1..10, residuals ±0.1): the
+    /// residuals never see a < 0, a ends at 0 without a standard error, and b is then the slope of
+    /// the least-squares line through the origin, Σxy/Σx², with its textbook standard error
+    /// s/√Σx², s² = Σr²/(n − 1).
+    #[test]
+    fn a_parameter_that_the_data_would_take_below_its_range_is_held_at_the_bound() {
+        let x: Vec<f64> = (1..=10).map(f64::from).collect();
+        let y: Vec<f64> =
+            x.iter().enumerate().map(|(i, x)| -1.0 + 0.5 * x + if i % 2 == 0 { 0.1 } else { -0.1 }).collect();
+        let lowest = std::cell::Cell::new(f64::MAX);
+        let residuals = |p: &[f64]| {
+            lowest.set(lowest.get().min(p[0]));
+            Ok(x.iter().zip(&y).map(|(x, y)| p[0] + p[1] * x - y).collect())
+        };
+        let bounds = [(0.0, f64::INFINITY), (f64::NEG_INFINITY, f64::INFINITY)];
+        let fit = least_squares(&residuals, &["a".into(), "b".into()], &[1.0, 1.0], &[1.0, 1.0], &bounds, 1e-6)
+            .unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(lowest.get(), 0.0, "the residuals were asked for a = {}", lowest.get());
+        assert_eq!(fit.values[0], 0.0);
+        assert_eq!(fit.at_bound, vec![true, false]);
+        assert!(fit.standard_errors[0].is_none() && fit.intervals[0].is_none());
+        let sxx: f64 = x.iter().map(|x| x * x).sum();
+        let b = x.iter().zip(&y).map(|(x, y)| x * y).sum::<f64>() / sxx;
+        let s2: f64 = x.iter().zip(&y).map(|(x, y)| (b * x - y).powi(2)).sum::<f64>() / 9.0;
+        assert!((fit.values[1] - b).abs() < 1e-8, "{} against {b}", fit.values[1]);
+        let se = fit.standard_errors[1].unwrap();
+        assert!((se - (s2 / sxx).sqrt()).abs() < 1e-6 * (s2 / sxx).sqrt(), "{se}");
+        assert_eq!(fit.degrees_of_freedom, 9);
+        assert_eq!(fit.correlation.len(), 1);
     }
 }

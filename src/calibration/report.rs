@@ -95,7 +95,8 @@ pub fn markdown(c: &Calibration) -> String {
                 );
             }
             _ => {
-                let _ = writeln!(s, "| {} | {} | {} | (fixed) | |", p.name, significant(p.value, 5), p.unit);
+                let how = if p.at_bound { "(at a bound of its range)" } else { "(fixed)" };
+                let _ = writeln!(s, "| {} | {} | {} | {how} | |", p.name, significant(p.value, 5), p.unit);
             }
         }
     }
@@ -139,12 +140,49 @@ pub fn markdown(c: &Calibration) -> String {
             let _ = writeln!(s, "- {w}");
         }
     }
+    let plotted = plotted_curves(c.curves.len()).len();
     let _ = writeln!(
         s,
-        "\n## The law for a model\n\n```toml\n{}```\n\nPlots: fitted-curves.png, fitted-curves.svg.",
-        law_block(c)
+        "\n## The law for a model\n\n```toml\n{}```\n\nPlots: fitted-curves.png, fitted-curves.svg{}.",
+        law_block(c),
+        if plotted < c.curves.len() {
+            format!(" ({plotted} of the {} curves, spread over them; calibration.json has them all)", c.curves.len())
+        } else {
+            String::new()
+        }
     );
     s
+}
+
+/// The most curves the plot draws (one colour each); more would hide one another.
+pub const MAX_PLOTTED_CURVES: usize = 6;
+/// The most measured points of a curve the plot marks: more overlap at the plot's size.
+pub const MAX_PLOTTED_POINTS: usize = 400;
+
+/// The curves the plot draws, of `count`: all of a few, or [`MAX_PLOTTED_CURVES`] spread evenly
+/// from the first to the last.
+pub fn plotted_curves(count: usize) -> Vec<usize> {
+    if count <= MAX_PLOTTED_CURVES {
+        return (0..count).collect();
+    }
+    let last = (count - 1) as f64;
+    let mut picked: Vec<usize> =
+        (0..MAX_PLOTTED_CURVES).map(|i| (last * i as f64 / (MAX_PLOTTED_CURVES - 1) as f64).round() as usize).collect();
+    picked.dedup();
+    picked
+}
+
+/// The points of a curve the plot marks: every one of up to [`MAX_PLOTTED_POINTS`], or that many
+/// spread evenly from the first to the last.
+pub fn plotted_points<T: Copy>(points: &[T]) -> Vec<T> {
+    if points.len() <= MAX_PLOTTED_POINTS {
+        return points.to_vec();
+    }
+    let last = (points.len() - 1) as f64;
+    let mut picked: Vec<usize> =
+        (0..MAX_PLOTTED_POINTS).map(|i| (last * i as f64 / (MAX_PLOTTED_POINTS - 1) as f64).round() as usize).collect();
+    picked.dedup();
+    picked.into_iter().map(|i| points[i]).collect()
 }
 
 /// The calibration as JSON.
@@ -196,20 +234,98 @@ pub fn write(c: &Calibration, out: &Path) -> Result<(), CalibrationError> {
         TestKind::DirectShear => ("slip [mm]", "shear stress τ [kPa]", "σn"),
         TestKind::PullOut => ("head displacement [mm]", "pull-out force [kN/m]", "q"),
     };
+    // a bounded number of curves and points: the plot's size does not grow with the file's
     let mut series = Vec::new();
     let mut markers = Vec::new();
-    for (k, sm) in c.curves.iter().zip(&c.smooth) {
+    let shown = plotted_curves(c.curves.len());
+    for &i in &shown {
+        let (k, sm) = (&c.curves[i], &c.smooth[i]);
+        let measured: Vec<(f64, f64)> = k.x.iter().zip(&k.y).map(|(x, y)| (1e3 * x, *y)).collect();
         let label = format!("{what} = {} kPa, measured", k.condition);
-        series.push((label.clone(), k.x.iter().zip(&k.y).map(|(x, y)| (1e3 * x, *y)).collect()));
+        series.push((label.clone(), plotted_points(&measured)));
         markers.push(label);
         series.push((format!("{what} = {} kPa, fitted", k.condition), sm.iter().map(|(x, y)| (1e3 * x, *y)).collect()));
     }
+    let of = if shown.len() < c.curves.len() {
+        format!(" ({} of {} curves)", shown.len(), c.curves.len())
+    } else {
+        String::new()
+    };
     let panel = Panel {
-        title: format!("{}: {} law fitted", c.spec.title, c.spec.law.name()),
+        title: format!("{}: {} law fitted{of}", c.spec.title, c.spec.law.name()),
         x_label: x_label.into(),
         y_label: y_label.into(),
         series,
         markers_only: markers,
     };
     write_figure(&folder, "fitted-curves", &[panel], 1).map_err(fail)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::calibration::{calibrate_curves, CalibrationSpec, Curve, LawFamily};
+    use std::path::PathBuf;
+
+    #[test]
+    fn the_plot_marks_a_bounded_number_of_points_and_curves() {
+        let few: Vec<usize> = (0..10).collect();
+        assert_eq!(plotted_points(&few), few);
+        let many: Vec<usize> = (0..60_000).collect();
+        let marked = plotted_points(&many);
+        assert_eq!(marked.len(), 400);
+        assert_eq!((marked[0], marked[399]), (0, 59_999));
+        assert!(marked.windows(2).all(|w| w[0] < w[1]));
+        assert_eq!(plotted_curves(3), vec![0, 1, 2]);
+        assert_eq!(plotted_curves(11), vec![0, 2, 4, 6, 8, 10]);
+        assert_eq!(plotted_curves(20_000).len(), 6);
+        assert_eq!(plotted_curves(20_000)[5], 19_999);
+    }
+
+    /// 2000 direct-shear curves of 3 points (τ = min(Ks·δ, c + σn·tan φ), Ks = 10 000 kPa/m, c = 5
+    /// kPa, φ = 30°, ±1 % alternately): what is written grows with the 6000 points given, not with
+    /// the curves × a fixed count of fitted points (which made 2000 × 201 × 2 numbers in the JSON and
+    /// as many circles in the SVG, some 100 MB).
+    #[test]
+    fn what_is_written_for_many_curves_is_bounded_by_the_points_given() {
+        let curves: Vec<Curve> = (0..2000)
+            .map(|k| {
+                let sigma = 10.0 + 0.05 * k as f64;
+                let x = vec![0.0, 0.001, 0.005];
+                let y = x
+                    .iter()
+                    .enumerate()
+                    .map(|(i, &d)| {
+                        let tau = (1e4 * d as f64).min(5.0 + sigma * 30f64.to_radians().tan());
+                        tau * (1.0 + if (i + k) % 2 == 0 { 0.01 } else { -0.01 })
+                    })
+                    .collect();
+                Curve { condition: sigma, x, y }
+            })
+            .collect();
+        let dir = tempfile::tempdir().unwrap();
+        let spec = CalibrationSpec {
+            path: dir.path().join("fit.toml"),
+            title: "many".into(),
+            test: TestKind::DirectShear,
+            data: dir.path().join("ds.csv"),
+            law: LawFamily::Coulomb,
+            initial: Vec::new(),
+            fixed: Vec::new(),
+            pull_out: None,
+        };
+        let c = calibrate_curves(&spec, curves).unwrap_or_else(|e| panic!("{e}"));
+        let smooth: usize = c.smooth.iter().map(Vec::len).sum();
+        assert!(smooth <= 20_000, "{smooth} fitted points");
+        let out: PathBuf = dir.path().join("out");
+        write(&c, &out).unwrap_or_else(|e| panic!("{e}"));
+        let size = |name: &str| std::fs::metadata(out.join(name)).map(|m| m.len()).unwrap_or(0);
+        for name in ["calibration.json", "calibration.md", "fitted-curves.svg", "fitted-curves.png"] {
+            assert!(size(name) > 0, "{name} missing");
+        }
+        // the plot: 6 curves of at most 3 marks and 201 fitted points each
+        assert!(size("fitted-curves.svg") < 1_000_000, "fitted-curves.svg: {} bytes", size("fitted-curves.svg"));
+        // the JSON: 3 numbers a point given and at most 20 000 fitted points of 2
+        assert!(size("calibration.json") < 4_000_000, "calibration.json: {} bytes", size("calibration.json"));
+    }
 }

@@ -180,12 +180,38 @@ pub fn check(path: &Path, file: CalibrationFile) -> Result<CalibrationSpec, Cali
                 if !value.is_finite() {
                     return Err(spec_error(format!("{table}.{key}"), "not a finite number".into()));
                 }
+                // the range a model's interface law accepts: a fit with a value outside it would
+                // write a law no model takes
+                p.check(value).map_err(|message| spec_error(format!("{table}.{key}"), message))?;
                 Ok((p, value))
             })
             .collect()
     };
     let initial = named("initial", &file.initial)?;
     let fixed = named("fixed", &file.fixed)?;
+    // the residual strength not above the peak, as a model checks a softening law: among the values
+    // given (a parameter under both tables at its [fixed] one, as the fit takes it)
+    let given = |p: Parameter| {
+        let tables = fixed.iter().map(|f| ("fixed", f)).chain(initial.iter().map(|i| ("initial", i)));
+        tables.filter(|(_, (q, _))| *q == p).map(|(table, &(_, v))| (table, v)).next()
+    };
+    for (peak, residual) in [
+        (Parameter::Cohesion, Parameter::ResidualCohesion),
+        (Parameter::FrictionAngle, Parameter::ResidualFrictionAngle),
+    ] {
+        if let (Some((peak_table, peak_value)), Some((table, value))) = (given(peak), given(residual)) {
+            if value > peak_value {
+                return Err(spec_error(
+                    format!("{table}.{}", residual.key()),
+                    format!(
+                        "{value} is above the peak's {peak_value} ({peak_table}.{}): the residual strength must not \
+                         exceed the peak",
+                        peak.key()
+                    ),
+                ));
+            }
+        }
+    }
     if fixed.len() == parameters.len() {
         return Err(spec_error("fixed".into(), "every parameter is fixed: nothing is left to fit".into()));
     }
@@ -274,4 +300,73 @@ pub fn check(path: &Path, file: CalibrationFile) -> Result<CalibrationSpec, Cali
         fixed,
         pull_out: file.pull_out,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The calibration file of a direct-shear test of the `law` with the tables `extra` (TOML).
+    fn checked(law: &str, extra: &str) -> Result<CalibrationSpec, CalibrationError> {
+        let text = format!("test = \"direct-shear\"\ndata = \"ds.csv\"\nlaw = \"{law}\"\n{extra}");
+        let file: CalibrationFile = toml::from_str(&text).unwrap_or_else(|e| panic!("{e}\n{text}"));
+        check(Path::new("fit.toml"), file)
+    }
+
+    /// The field and the message of a refusal.
+    fn refusal(law: &str, extra: &str) -> (String, String) {
+        match checked(law, extra) {
+            Err(CalibrationError::Spec { field, message, .. }) => (field, message),
+            Err(other) => panic!("{extra}: {other}"),
+            Ok(_) => panic!("{extra}: accepted"),
+        }
+    }
+
+    #[test]
+    fn a_fixed_or_initial_value_that_a_model_refuses_is_refused_naming_its_field() {
+        let cases = [
+            ("coulomb", "[fixed]\nshear_stiffness = -5000.0\n", "fixed.shear_stiffness", "must be a positive number"),
+            ("coulomb", "[fixed]\nshear_stiffness = 0.0\n", "fixed.shear_stiffness", "must be a positive number"),
+            ("coulomb", "[fixed]\nfriction_angle = 95.0\n", "fixed.friction_angle", "within [0, 90)"),
+            ("coulomb", "[fixed]\nfriction_angle = 90.0\n", "fixed.friction_angle", "within [0, 90)"),
+            ("hyperbolic", "[fixed]\ncohesion = -2.0\n", "fixed.cohesion", "must be zero or positive"),
+            ("coulomb", "[fixed]\ncohesion = nan\n", "fixed.cohesion", "not a finite number"),
+            ("coulomb", "[initial]\nfriction_angle = -3.0\n", "initial.friction_angle", "within [0, 90)"),
+            ("softening", "[fixed]\nsoftening_slip = 0.0\n", "fixed.softening_slip", "must be a positive number"),
+            ("softening", "[initial]\nresidual_cohesion = -1.0\n", "initial.residual_cohesion", "zero or positive"),
+            // the residual above the peak, among the values given in either table
+            (
+                "softening",
+                "[fixed]\ncohesion = 5.0\nresidual_cohesion = 8.0\n",
+                "fixed.residual_cohesion",
+                "above the peak's 5 (fixed.cohesion)",
+            ),
+            (
+                "softening",
+                "[initial]\nresidual_friction_angle = 31.0\n[fixed]\nfriction_angle = 30.0\n",
+                "initial.residual_friction_angle",
+                "above the peak's 30 (fixed.friction_angle)",
+            ),
+        ];
+        for (law, extra, field, words) in cases {
+            let (f, message) = refusal(law, extra);
+            assert_eq!(f, field, "{extra}: {message}");
+            assert!(message.contains(words), "{extra}: {message}");
+        }
+        // the whole message names the file and the field
+        let e = checked("coulomb", "[fixed]\nshear_stiffness = -5000.0\n").unwrap_err();
+        assert_eq!(e.to_string(), "fit.toml: fixed.shear_stiffness: must be a positive number, found -5000");
+    }
+
+    #[test]
+    fn values_at_the_edges_of_the_range_are_accepted() {
+        let spec = checked(
+            "softening",
+            "[fixed]\ncohesion = 0.0\nresidual_cohesion = 0.0\nfriction_angle = 89.9\n\
+             [initial]\nresidual_friction_angle = 89.9\nshear_stiffness = 1e-9\nsoftening_slip = 1e-9\n",
+        )
+        .unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(spec.fixed.len(), 3);
+        assert_eq!(spec.initial.len(), 3);
+    }
 }

@@ -37,7 +37,13 @@ fn run(spec: &Path, out: Option<PathBuf>) -> Result<(), CalibrationError> {
                 report::significant(lo, 5),
                 report::significant(hi, 5)
             ),
-            _ => println!("  {:<24} {:>12} {:<6} (fixed)", p.name, report::significant(p.value, 5), p.unit),
+            _ => println!(
+                "  {:<24} {:>12} {:<6} {}",
+                p.name,
+                report::significant(p.value, 5),
+                p.unit,
+                if p.at_bound { "(at a bound of its range)" } else { "(fixed)" }
+            ),
         }
     }
     for w in &c.warnings {
