@@ -15,8 +15,9 @@
 //!
 //! Goal: quad8 elements (quadratic displacement, exact here) reproduce Dⱼ at every node after every
 //! lift, and the final strains are −γ(H − y)/M: each lift was placed stress-free. Switching gravity
-//! on for the whole column at once gives a different settlement profile, γ(H·y − y²/2)/M, which the
-//! test also checks, so that the two cannot be confused.
+//! on for the whole column at once ends with the same settlement profile, γ(H·y − y²/2)/M (each
+//! lift placed on the deformed column settles by what the soil above it adds, as the whole column
+//! does), which the test also checks.
 //!
 //! ```text
 //!   y = 4 +--+  lift 4
