@@ -235,11 +235,12 @@ pub fn reinforcement_balance(model: &Model, results: &StepResults, state: &State
         neighbours[a].push(b);
         neighbours[b].push(a);
     }
-    // a thousandth of the model's force scale: a reinforcement that carries nothing yet (a grid
-    // just placed, one under a surcharge only) has an applied force and interface forces of
-    // round-off, whose ratio means nothing; its mismatch is measured against this instead
+    // the model's force scale (its largest nodal force, applied or reaction): a reinforcement
+    // that carries nothing yet (a grid just placed, one under a surcharge only) has an applied
+    // force and interface forces of round-off or of the iteration's tolerance, whose ratio means
+    // nothing; its mismatch is measured against this scale instead
     let largest = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-    let floor = 1e-3 * largest(&results.reaction_vector).max(largest(&state.f_ext));
+    let floor = largest(&results.reaction_vector).max(largest(&state.f_ext));
     let mut out = Vec::new();
     let mut k = 0usize;
     for interface in &state.interfaces {
