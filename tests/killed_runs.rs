@@ -281,13 +281,12 @@ fn a_run_killed_at_ten_moments_leaves_whole_steps_and_the_next_run_leaves_the_cl
         // the next run into the same folder: the clean run's files exactly, nothing else
         run_to_completion(&model, &out);
         let files = files_below(&out);
-        let hidden: Vec<&PathBuf> =
-            files
-                .iter()
-                .filter(|f| f.components().any(|c| c.as_os_str().to_string_lossy().starts_with('.')))
-                // the record of what the run wrote (src/output/owned_folder.rs)
-                .filter(|f| f.as_path() != Path::new(".geoslip-owned"))
-                .collect();
+        let hidden: Vec<&PathBuf> = files
+            .iter()
+            .filter(|f| f.components().any(|c| c.as_os_str().to_string_lossy().starts_with('.')))
+            // the record of what the run wrote (src/output/owned_folder.rs)
+            .filter(|f| f.as_path() != Path::new(".geoslip-owned"))
+            .collect();
         assert!(hidden.is_empty(), "{what}: temporary files left after the next run: {hidden:?}");
         assert_eq!(files, clean_files, "{what}: the files after the next run are not the clean run's");
         assert_eq!(step_folders(&out), clean_steps, "{what}: the steps after the next run are not the clean run's");

@@ -182,7 +182,12 @@ fn load_model(path: &Path) -> bool {
 struct Saved(Vec<Checkpoint>);
 
 impl StepSink for Saved {
-    fn step_done(&mut self, _: &analysis::results::StepResults, _: &analysis::StepRecord, _: &SolverStats) -> Result<(), geoslip::Error> {
+    fn step_done(
+        &mut self,
+        _: &analysis::results::StepResults,
+        _: &analysis::StepRecord,
+        _: &SolverStats,
+    ) -> Result<(), geoslip::Error> {
         Ok(())
     }
     fn keeps_checkpoints(&self) -> bool {
@@ -206,7 +211,8 @@ fn targets() -> Vec<Target> {
     let meshes = |ext| files_in("tests/gmsh", ext);
     let mut msh41_ascii = corpus(&[root().join("examples/lab-pullout/lab-pullout.msh")]);
     msh41_ascii.extend(corpus(&meshes("msh")).into_iter().filter(|b| b.starts_with(b"$MeshFormat\n4.1 0")));
-    let msh22: Vec<Vec<u8>> = corpus(&meshes("msh")).into_iter().filter(|b| b.starts_with(b"$MeshFormat\n2.2")).collect();
+    let msh22: Vec<Vec<u8>> =
+        corpus(&meshes("msh")).into_iter().filter(|b| b.starts_with(b"$MeshFormat\n2.2")).collect();
     let msh41_binary = binary_meshes();
 
     // a saved step of a small pull-out, and the model it belongs to
@@ -219,7 +225,8 @@ fn targets() -> Vec<Target> {
     checkpoints::write(&OwnedFolder::open(scratch.path(), &[]).unwrap(), &step).unwrap();
     let saved_file = std::fs::read_dir(scratch.path().join("restart")).unwrap().next().unwrap().unwrap().path();
     let saved_bytes = std::fs::read(&saved_file).unwrap();
-    let saved_name: &'static str = Box::leak(saved_file.file_name().unwrap().to_string_lossy().into_owned().into_boxed_str());
+    let saved_name: &'static str =
+        Box::leak(saved_file.file_name().unwrap().to_string_lossy().into_owned().into_boxed_str());
     let from = From { stage: (step.stage_index + 1).to_string(), step: step.step };
 
     vec![
@@ -263,7 +270,8 @@ fn targets() -> Vec<Target> {
             corpus: corpus(&files_in("examples/calibration", "csv")),
             file_name: "data.csv",
             read: Box::new(|p| {
-                let a = geoslip::calibration::curves::read(p, geoslip::calibration::spec::TestKind::DirectShear).is_ok();
+                let a =
+                    geoslip::calibration::curves::read(p, geoslip::calibration::spec::TestKind::DirectShear).is_ok();
                 let b = geoslip::calibration::curves::read(p, geoslip::calibration::spec::TestKind::PullOut).is_ok();
                 a || b
             }),
@@ -332,7 +340,8 @@ fn try_input(target: &Target, scratch: &Path, input: &[u8]) -> Option<String> {
 
 #[test]
 fn no_input_makes_a_reader_panic_or_hang() {
-    let cases: usize = std::env::var("GEOSLIP_PARSER_FUZZ_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(DEFAULT_CASES);
+    let cases: usize =
+        std::env::var("GEOSLIP_PARSER_FUZZ_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(DEFAULT_CASES);
     let seed: u64 = std::env::var("GEOSLIP_FUZZ_SEED").ok().and_then(|v| v.parse().ok()).unwrap_or(DEFAULT_SEED);
     let scratch = tempfile::tempdir().unwrap();
     // the panics are counted, not printed

@@ -71,7 +71,13 @@ fn fields_that_point_outside_the_model_are_refused_before_use() {
         ("stage index 0 in stage 2's file", Box::new(|c| c.stage_index = 0), "its name says stage 2"),
         ("stage index 2^63", Box::new(|c| c.stage_index = 1 << 63), "past the model's 2 stages"),
         ("a step other than the file's", Box::new(|c| c.step = 3), "its name says stage 2 step 2"),
-        ("a displacement short", Box::new(|c| { c.state.u.pop(); }), "u holds"),
+        (
+            "a displacement short",
+            Box::new(|c| {
+                c.state.u.pop();
+            }),
+            "u holds",
+        ),
         ("a multiplier not a number", Box::new(|c| c.state.lambda[0] = f64::NAN), "lambda[0] is NaN"),
         (
             "a slave node past the mesh",
@@ -88,12 +94,16 @@ fn fields_that_point_outside_the_model_are_refused_before_use() {
             Box::new(|c| c.state.interfaces[0].faces[0].points[1].weights = Some(vec![(1 << 30, 1.0)])),
             "mortar weight names master node",
         ),
-        ("a soil element more", Box::new(|c| {
-            let extra = c.state.soil.elements()[0].clone();
-            let mut all = c.state.soil.elements().to_vec();
-            all.push(extra);
-            c.state.soil = geoslip::element::soil_state::SoilField::new(all);
-        }), "soil elements"),
+        (
+            "a soil element more",
+            Box::new(|c| {
+                let extra = c.state.soil.elements()[0].clone();
+                let mut all = c.state.soil.elements().to_vec();
+                all.push(extra);
+                c.state.soil = geoslip::element::soil_state::SoilField::new(all);
+            }),
+            "soil elements",
+        ),
         ("held DOFs short", Box::new(|c| c.held.truncate(3)), "held holds 3 DOFs"),
         ("targets past the stage's", Box::new(|c| c.progress.targets = vec![0.5; 100]), "load factors still to reach"),
         ("an infinite gravity", Box::new(|c| c.gravity = f64::INFINITY), "gravity"),

@@ -43,7 +43,10 @@ pub fn check(saved: &Checkpoint, model: &Model, stage_index: usize, step: usize)
         ));
     }
     if saved.stage != stage.name {
-        return Err(format!("it names its stage \"{}\", and that stage of the model is \"{}\"", saved.stage, stage.name));
+        return Err(format!(
+            "it names its stage \"{}\", and that stage of the model is \"{}\"",
+            saved.stage, stage.name
+        ));
     }
     let dofs = 2 * model.mesh.nodes.len();
     let s = &saved.state;
@@ -76,7 +79,9 @@ pub fn check(saved: &Checkpoint, model: &Model, stage_index: usize, step: usize)
     finite(&[saved.gravity], "gravity")?;
     length(&saved.applied_weight, dofs, "applied_weight")?;
     let p = &saved.progress;
-    for (values, what) in [(&p.force, "force"), (&p.f_ext_start, "f_ext_start"), (&p.unbalance, "unbalance"), (&p.u_start, "u_start")] {
+    for (values, what) in
+        [(&p.force, "force"), (&p.f_ext_start, "f_ext_start"), (&p.unbalance, "unbalance"), (&p.u_start, "u_start")]
+    {
         if !values.is_empty() {
             length(values, dofs, what)?;
         }
@@ -94,7 +99,10 @@ pub fn check(saved: &Checkpoint, model: &Model, stage_index: usize, step: usize)
         return Err(format!("it has reached step {} of a stage of {}", p.planned, stage.load_factors.len()));
     }
     if p.cutbacks > model.analysis.max_cutbacks {
-        return Err(format!("it counts {} cutbacks, more than max_cutbacks = {}", p.cutbacks, model.analysis.max_cutbacks));
+        return Err(format!(
+            "it counts {} cutbacks, more than max_cutbacks = {}",
+            p.cutbacks, model.analysis.max_cutbacks
+        ));
     }
     if let Some(last) = &p.last {
         length(&last.u_before, dofs, "last.u_before")?;
@@ -125,7 +133,11 @@ fn check_soil(saved: &Checkpoint, model: &Model) -> Result<(), Misfit> {
             length(force, element_dofs, &what("pore_force"))?;
         }
         if !e.points.is_empty() && e.points.len() != points {
-            return Err(format!("{} holds {} Gauss points and the element has {points}", what("stress"), e.points.len()));
+            return Err(format!(
+                "{} holds {} Gauss points and the element has {points}",
+                what("stress"),
+                e.points.len()
+            ));
         }
         for point in &e.points {
             finite(&point.stress, &what("stress"))?;
@@ -156,7 +168,8 @@ fn check_interfaces(saved: &[Interface], model: &[Interface], multiplier_count: 
             return Err(format!("its interface \"{}\" is not the model's \"{}\"", a.name, b.name));
         }
         for (fa, fb) in a.faces.iter().zip(&b.faces) {
-            check_face(fa, fb, multiplier_count).map_err(|m| format!("interface \"{}\", {}: {m}", b.name, fb.named()))?;
+            check_face(fa, fb, multiplier_count)
+                .map_err(|m| format!("interface \"{}\", {}: {m}", b.name, fb.named()))?;
         }
     }
     Ok(())

@@ -67,7 +67,8 @@ pub fn expected_header(kind: TestKind) -> &'static str {
 pub fn read(path: &Path, kind: TestKind) -> Result<Vec<Curve>, CalibrationError> {
     let read = |source| CalibrationError::Read { path: path.into(), source };
     let bytes = crate::input_file::read(path, crate::input_file::SizeLimit::of_memory(None)).map_err(read)?;
-    let text = String::from_utf8(bytes).map_err(|e| read(std::io::Error::new(std::io::ErrorKind::InvalidData, e).into()))?;
+    let text =
+        String::from_utf8(bytes).map_err(|e| read(std::io::Error::new(std::io::ErrorKind::InvalidData, e).into()))?;
     parse(path, &text, kind)
 }
 

@@ -124,7 +124,8 @@ pub struct CalibrationSpec {
 pub fn load(path: &Path) -> Result<CalibrationSpec, CalibrationError> {
     let read = |source| CalibrationError::Read { path: path.into(), source };
     let bytes = crate::input_file::read(path, crate::input_file::SizeLimit::of_memory(None)).map_err(read)?;
-    let text = String::from_utf8(bytes).map_err(|e| read(std::io::Error::new(std::io::ErrorKind::InvalidData, e).into()))?;
+    let text =
+        String::from_utf8(bytes).map_err(|e| read(std::io::Error::new(std::io::ErrorKind::InvalidData, e).into()))?;
     let de = toml::Deserializer::parse(&text).map_err(|e| CalibrationError::Spec {
         path: path.into(),
         field: "(file)".into(),

@@ -491,15 +491,24 @@ fn run_series(
         let mut peaks = Vec::new();
         let model = case.model()?;
         let case_folder = series_folder.subfolder(&folder, &crate::output::ResultWriter::inputs(&model))?;
-        let error =
-            match run_case(path, &*model, solver, options, output, Place::Opened(case_folder), None, verbosity, &mut peaks) {
-                Ok(()) => None,
-                Err(e) => {
-                    let message = e.to_string();
-                    first_error.get_or_insert(e);
-                    Some(message)
-                }
-            };
+        let error = match run_case(
+            path,
+            &*model,
+            solver,
+            options,
+            output,
+            Place::Opened(case_folder),
+            None,
+            verbosity,
+            &mut peaks,
+        ) {
+            Ok(()) => None,
+            Err(e) => {
+                let message = e.to_string();
+                first_error.get_or_insert(e);
+                Some(message)
+            }
+        };
         if pullout.is_none() {
             pullout = PulloutReference::of(&*model, &peaks);
         }

@@ -123,7 +123,11 @@ pub fn mesh_geometry(geometry: &Path, options: MeshingOptions) -> Result<(GmshMe
     }
     let bytes = crate::input_file::read_not_linked(&out, memory)
         .map_err(|e| err(geometry, None, format!("cannot read gmsh's output: {e}")))?;
-    super::read::check_declared_size(geometry, &bytes, options.memory_limit_mb.or_else(crate::linsol::available_memory_mb))?;
+    super::read::check_declared_size(
+        geometry,
+        &bytes,
+        options.memory_limit_mb.or_else(crate::linsol::available_memory_mb),
+    )?;
     let mut mesh = GmshMesh::from_bytes(&out, &bytes)?;
     mesh.path = geometry.to_path_buf();
     Ok((mesh, GeneratedMesh { geometry: geometry.to_path_buf(), gmsh_version: version_text, msh: bytes }))

@@ -53,7 +53,10 @@ pub(super) fn read(path: &Path, bytes: &[u8], names: &BTreeMap<(usize, i64), Str
                 return Err(bad(&format!("unknown element type {code}")));
             };
             // the row's own length bounds the tag count, so the sum below cannot overflow
-            let ntags = usize::try_from(f[2]).ok().filter(|&t| t <= f.len()).ok_or_else(|| bad("a tag count longer than the row"))?;
+            let ntags = usize::try_from(f[2])
+                .ok()
+                .filter(|&t| t <= f.len())
+                .ok_or_else(|| bad("a tag count longer than the row"))?;
             if f.len() != 3 + ntags + count {
                 return Err(bad(&format!("expected {} fields", 3 + ntags + count)));
             }

@@ -36,8 +36,7 @@ impl<'a> Cursor<'a> {
         if start == self.at {
             return Err(self.fail(format!("the file ends where {what} should be")));
         }
-        std::str::from_utf8(&self.bytes[start..self.at])
-            .map_err(|_| self.fail(format!("{what} is not a number")))
+        std::str::from_utf8(&self.bytes[start..self.at]).map_err(|_| self.fail(format!("{what} is not a number")))
     }
 
     fn take(&mut self, n: usize, what: &str) -> Result<&'a [u8], GmshError> {
@@ -289,8 +288,7 @@ fn elements(
         let in_block = c.count("an element block's number of elements", 1 + per_element)?;
         let kind = GmshKind::from_code(code as u32);
         let physical = entity_groups.get(&(dim, entity)).cloned().unwrap_or_default();
-        let group_ids: Vec<usize> =
-            physical.iter().map(|&t| groups.get(dim, i64::from(t).abs(), names)).collect();
+        let group_ids: Vec<usize> = physical.iter().map(|&t| groups.get(dim, i64::from(t).abs(), names)).collect();
         for _ in 0..in_block {
             let tag = c.tag("an element tag")?;
             if !seen.insert(tag) {

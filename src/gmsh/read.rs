@@ -72,13 +72,18 @@ fn mesh_format(path: &Path, bytes: &[u8]) -> Result<(String, bool), GmshError> {
     let binary = match fields[1] {
         "0" => false,
         "1" => true,
-        other => return Err(err(path, Some(2), format!("the file type is `{other}`; it must be 0 (ASCII) or 1 (binary)"))),
+        other => {
+            return Err(err(path, Some(2), format!("the file type is `{other}`; it must be 0 (ASCII) or 1 (binary)")))
+        }
     };
     if fields[2] != "8" {
         return Err(err(
             path,
             Some(2),
-            format!("the data size is `{}`; geoslip reads files written with 8-byte sizes, as Gmsh writes them", fields[2]),
+            format!(
+                "the data size is `{}`; geoslip reads files written with 8-byte sizes, as Gmsh writes them",
+                fields[2]
+            ),
         ));
     }
     Ok((fields[0].to_string(), binary))

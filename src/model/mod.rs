@@ -467,7 +467,8 @@ pub fn read_text(path: &Path) -> Result<String, Error> {
 /// As [`read_text`].
 pub fn read_text_within(path: &Path, limit_mb: Option<f64>) -> Result<String, Error> {
     let limit = crate::input_file::SizeLimit::of_memory(limit_mb);
-    let bytes = crate::input_file::read(path, limit).map_err(|source| Error::Read { path: path.to_path_buf(), source })?;
+    let bytes =
+        crate::input_file::read(path, limit).map_err(|source| Error::Read { path: path.to_path_buf(), source })?;
     String::from_utf8(bytes).map_err(|e| {
         let at = e.utf8_error().valid_up_to();
         let before = &e.as_bytes()[..at];
@@ -522,7 +523,8 @@ fn parse_schema(path: &Path, text: &str) -> Result<ModelFile, Error> {
         // mean one thing in either form
         // (only the rows' lengths are in question here: JSON has no NaN, so a NaN the model file
         // holds, which validation names, is a null in the tree)
-        let tree: serde_json::Value = toml::from_str(text).map_err(|e| fail(String::new(), shorten_lines(&e.to_string())))?;
+        let tree: serde_json::Value =
+            toml::from_str(text).map_err(|e| fail(String::new(), shorten_lines(&e.to_string())))?;
         match serde_path_to_error::deserialize::<_, ModelFile>(tree) {
             Err(e) if e.inner().to_string().contains("invalid length") => {
                 Err(fail(e.path().to_string(), format!("{}: a row holds more values than its fields", e.into_inner())))

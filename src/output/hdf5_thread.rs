@@ -12,8 +12,8 @@
 //! error on the writer thread stops it; the run's thread gets the error at its next hand-over, or
 //! when it finishes.
 
-use super::owned_folder::OwnedFolder;
 use super::grids::{GridLayout, StepGrids};
+use super::owned_folder::OwnedFolder;
 use super::results_h5::Hdf5Results;
 use crate::analysis::StepRecord;
 use crate::error::Error;

@@ -17,13 +17,13 @@ mod chunk_deflate;
 mod figures;
 mod folder;
 pub mod grids;
-pub mod owned_folder;
 #[cfg(feature = "hdf5")]
 mod h5_arrays;
 #[cfg(feature = "hdf5")]
 pub mod hdf5_thread;
 pub mod kept_steps;
 pub mod options;
+pub mod owned_folder;
 mod pace;
 pub mod plots;
 pub mod report;
@@ -35,11 +35,11 @@ pub mod vtk;
 pub mod xdmf;
 
 use figures::{profile, StepProfile};
-use folder::{csv_bytes, num};
 pub use folder::path_component;
-pub use owned_folder::OwnedFolder;
+use folder::{csv_bytes, num};
 pub use kept_steps::KeptSteps;
 pub use options::OutputOptions;
+pub use owned_folder::OwnedFolder;
 pub use summary::{FieldFiles, RunSummary, TargetPeak, Unknowns};
 
 use crate::analysis::results::StepResults;
@@ -237,7 +237,12 @@ impl ResultWriter {
     ///
     /// # Errors
     /// [`Error::Write`] naming what could not be written in the folder.
-    pub fn with_folder(model: &Model, folder: OwnedFolder, solver: &str, options: &OutputOptions) -> Result<Self, Error> {
+    pub fn with_folder(
+        model: &Model,
+        folder: OwnedFolder,
+        solver: &str,
+        options: &OutputOptions,
+    ) -> Result<Self, Error> {
         let out = folder.path().to_path_buf();
         let out = out.as_path();
         let mut targets = Vec::new();

@@ -238,22 +238,34 @@ impl OwnedFolder {
             Ok(stat) => {
                 let kind = FileType::from_raw_mode(stat.st_mode);
                 if kind == FileType::Symlink {
-                    return Err(refusal(&self.0.path.join(rel), "it is a link, and geoslip does not write through links"));
+                    return Err(refusal(
+                        &self.0.path.join(rel),
+                        "it is a link, and geoslip does not write through links",
+                    ));
                 }
                 if kind != FileType::Directory {
-                    return Err(refusal(&self.0.path.join(rel), "geoslip must make a folder there and a file has the name"));
+                    return Err(refusal(
+                        &self.0.path.join(rel),
+                        "geoslip must make a folder there and a file has the name",
+                    ));
                 }
             }
             Err(rustix::io::Errno::NOENT) => {
                 rustix::fs::mkdirat(parent, name, Mode::from_raw_mode(0o777)).map_err(|e| self.fail(rel)(io(e)))?;
-                let stat = rustix::fs::statat(parent, name, AtFlags::SYMLINK_NOFOLLOW).map_err(|e| self.fail(rel)(io(e)))?;
+                let stat =
+                    rustix::fs::statat(parent, name, AtFlags::SYMLINK_NOFOLLOW).map_err(|e| self.fail(rel)(io(e)))?;
                 self.note_stat(rel, Kind::Folder, &stat, false)?;
                 self.0.made.lock().unwrap_or_else(|p| p.into_inner()).insert(rel.to_string());
             }
             Err(e) => return Err(self.fail(rel)(io(e))),
         }
-        rustix::fs::openat(parent, name, OFlags::DIRECTORY | OFlags::RDONLY | OFlags::NOFOLLOW | OFlags::CLOEXEC, Mode::empty())
-            .map_err(|e| self.fail(rel)(io(e)))
+        rustix::fs::openat(
+            parent,
+            name,
+            OFlags::DIRECTORY | OFlags::RDONLY | OFlags::NOFOLLOW | OFlags::CLOEXEC,
+            Mode::empty(),
+        )
+        .map_err(|e| self.fail(rel)(io(e)))
     }
 
     /// The folder holding `rel` and the last name of `rel`.
@@ -281,7 +293,10 @@ impl OwnedFolder {
             return Err(refusal(&path, "it is a link, and geoslip does not write through links"));
         }
         if self.0.inputs.contains(&(stat.st_dev, stat.st_ino)) {
-            return Err(refusal(&path, "it is an input of this run, which geoslip never replaces; choose another --out"));
+            return Err(refusal(
+                &path,
+                "it is an input of this run, which geoslip never replaces; choose another --out",
+            ));
         }
         let expected = if kind == Kind::File { FileType::RegularFile } else { FileType::Directory };
         if found != expected || !self.0.made.lock().unwrap_or_else(|p| p.into_inner()).contains(rel) {
@@ -447,7 +462,8 @@ impl OwnedFolder {
             let made = self.0.made.lock().unwrap_or_else(|p| p.into_inner());
             made.iter().filter(|p| p.starts_with(&prefix)).cloned().collect()
         };
-        let stat = rustix::fs::statat(from_fd, from_name, AtFlags::SYMLINK_NOFOLLOW).map_err(|e| self.fail(from)(io(e)))?;
+        let stat =
+            rustix::fs::statat(from_fd, from_name, AtFlags::SYMLINK_NOFOLLOW).map_err(|e| self.fail(from)(io(e)))?;
         self.note_stat(to, Kind::Folder, &stat, false)?;
         let mut renamed = Vec::new();
         for old in moved {
@@ -455,7 +471,11 @@ impl OwnedFolder {
             let (p, n) = self.parent_of(&old)?;
             let p: &OwnedFd = p.as_deref().unwrap_or(&self.0.root);
             if let Ok(stat) = rustix::fs::statat(p, n, AtFlags::SYMLINK_NOFOLLOW) {
-                let kind = if FileType::from_raw_mode(stat.st_mode) == FileType::Directory { Kind::Folder } else { Kind::File };
+                let kind = if FileType::from_raw_mode(stat.st_mode) == FileType::Directory {
+                    Kind::Folder
+                } else {
+                    Kind::File
+                };
                 self.note_stat(&new, kind, &stat, kind == Kind::File)?;
             }
             renamed.push((old, new));
@@ -522,7 +542,9 @@ fn walk(root: &OwnedFd, names: &[&str]) -> Option<OwnedFd> {
         let flags = OFlags::DIRECTORY | OFlags::RDONLY | OFlags::NOFOLLOW | OFlags::CLOEXEC;
         fd = Some(rustix::fs::openat(parent, *name, flags, Mode::empty()).ok()?);
     }
-    fd.or_else(|| rustix::fs::openat(root, ".", OFlags::DIRECTORY | OFlags::RDONLY | OFlags::CLOEXEC, Mode::empty()).ok())
+    fd.or_else(|| {
+        rustix::fs::openat(root, ".", OFlags::DIRECTORY | OFlags::RDONLY | OFlags::CLOEXEC, Mode::empty()).ok()
+    })
 }
 
 /// Whether `stat` is the object `entry` records: the same device, inode and kind; or, for a
@@ -534,7 +556,8 @@ fn is_recorded(entry: &Entry, stat: &rustix::fs::Stat) -> bool {
         Kind::Folder => kind == FileType::Directory,
     };
     let temporary = entry.path.rsplit('/').next().is_some_and(|n| n.starts_with(".partial-"));
-    same_kind && ((entry.pending && temporary) || (!entry.pending && stat.st_dev == entry.dev && stat.st_ino == entry.ino))
+    same_kind
+        && ((entry.pending && temporary) || (!entry.pending && stat.st_dev == entry.dev && stat.st_ino == entry.ino))
 }
 
 /// The line of `lines` (a path's) that the object `stat` is, the last one that says most.
@@ -552,12 +575,15 @@ fn unchanged(entry: &Entry, stat: &rustix::fs::Stat) -> bool {
 /// then the folders, once empty. Returns the files an earlier run wrote that have changed since
 /// (and then removes nothing).
 fn remove_recorded(root: &OwnedFd, path: &Path, inputs: &[(u64, u64)]) -> Result<Vec<String>, Error> {
-    let file = match rustix::fs::openat(root, RECORD, OFlags::RDONLY | OFlags::NOFOLLOW | OFlags::CLOEXEC, Mode::empty()) {
-        Ok(fd) => std::fs::File::from(fd),
-        Err(rustix::io::Errno::NOENT) => return Ok(Vec::new()),
-        Err(rustix::io::Errno::LOOP) => return Err(refusal(&path.join(RECORD), "it is a link, and geoslip does not read through links")),
-        Err(e) => return Err(Error::Write { path: path.join(RECORD), source: io(e) }),
-    };
+    let file =
+        match rustix::fs::openat(root, RECORD, OFlags::RDONLY | OFlags::NOFOLLOW | OFlags::CLOEXEC, Mode::empty()) {
+            Ok(fd) => std::fs::File::from(fd),
+            Err(rustix::io::Errno::NOENT) => return Ok(Vec::new()),
+            Err(rustix::io::Errno::LOOP) => {
+                return Err(refusal(&path.join(RECORD), "it is a link, and geoslip does not read through links"))
+            }
+            Err(e) => return Err(Error::Write { path: path.join(RECORD), source: io(e) }),
+        };
     let mut text = Vec::new();
     file.take(LARGEST_RECORD).read_to_end(&mut text).map_err(write_error(&path.join(RECORD)))?;
     let mut entries: BTreeMap<String, Vec<Entry>> = BTreeMap::new();
@@ -633,7 +659,8 @@ fn remove_recorded(root: &OwnedFd, path: &Path, inputs: &[(u64, u64)]) -> Result
             moved.push((current, to));
         }
     }
-    let mut ordered: Vec<(&Vec<Entry>, String)> = entries.values().map(|lines| (lines, now(&lines[0].path, &moved))).collect();
+    let mut ordered: Vec<(&Vec<Entry>, String)> =
+        entries.values().map(|lines| (lines, now(&lines[0].path, &moved))).collect();
     ordered.sort_by_key(|(lines, p)| {
         (std::cmp::Reverse(p.matches('/').count()), lines.iter().all(|e| e.kind == Kind::Folder))
     });
@@ -647,7 +674,10 @@ fn remove_recorded(root: &OwnedFd, path: &Path, inputs: &[(u64, u64)]) -> Result
         let flags = if entry.kind == Kind::Folder { AtFlags::REMOVEDIR } else { AtFlags::empty() };
         match rustix::fs::unlinkat(&parent, last, flags) {
             // a folder that holds what the run did not make stays, with it
-            Ok(()) | Err(rustix::io::Errno::NOENT) | Err(rustix::io::Errno::NOTEMPTY) | Err(rustix::io::Errno::EXIST) => {}
+            Ok(())
+            | Err(rustix::io::Errno::NOENT)
+            | Err(rustix::io::Errno::NOTEMPTY)
+            | Err(rustix::io::Errno::EXIST) => {}
             Err(e) => return Err(Error::Write { path: path.join(&current), source: io(e) }),
         }
     }

@@ -3,8 +3,8 @@
 //! σn(x) along each reinforcement at chosen steps (the paper's Figs. 5, 6, 8, 9 and 10).
 
 use super::owned_folder::OwnedFolder;
-use image::ImageEncoder;
 use crate::error::Error;
+use image::ImageEncoder;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::sync::Once;

@@ -43,10 +43,10 @@
 //! this file on a thread of its own (`hdf5_thread.rs`), in the same order.
 
 use super::chunk_deflate::ChunkDeflater;
-use super::owned_folder::OwnedFolder;
 use super::grids::{GridLayout, StepGrids};
 use super::h5_arrays::{new_group, number_attr, text_attr, ArrayWriter, DEFLATE_LEVEL};
 use super::options::FieldPrecision;
+use super::owned_folder::OwnedFolder;
 use super::xdmf::{self, Center, DataRef, Field, GridStep, KeptStep, Topology, TopologyType};
 use crate::analysis::StepRecord;
 use crate::error::Error;

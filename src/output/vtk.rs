@@ -6,8 +6,8 @@
 //! Points sit at their reference positions; ParaView's *Warp By Vector* on `displacement` shows the
 //! deformed shape.
 
-use super::owned_folder::OwnedFolder;
 use super::grids::{GridLayout, StepGrids};
+use super::owned_folder::OwnedFolder;
 use crate::error::Error;
 use crate::model::file::SolidKind;
 use vtkio::model::{
