@@ -26,6 +26,8 @@ pub mod options;
 pub mod owned_folder;
 mod pace;
 pub mod plots;
+mod record;
+mod record_removal;
 pub mod report;
 #[cfg(feature = "hdf5")]
 pub mod results_h5;
