@@ -10,8 +10,11 @@
 //!
 //! The seeds (`tests/fuzz-seeds/*.toml`, each checked and run as it is first) are small models
 //! that run in a fraction of a second: a one-element block with a series, the paper's reinforced
-//! block, a pull-out box, a geosynthetic stack in mm and N, a sliding block under water with a
-//! factor-of-safety stage, and quad8/tri6 soil built and dug in stages. Each case takes one and
+//! block (nearest-node re-association), a pull-out box, a geosynthetic stack in mm and N, a sliding
+//! block under water with a factor-of-safety stage, quad8/tri6 soil built and dug in stages, an
+//! axisymmetric ring with a free length under a cyclic displacement history started by linear
+//! extrapolation, an embedded grid with bearing members under a load-driven history that reverses,
+//! and a dilatant peak-residual grid pulled past an element with mortar re-association. Each case takes one and
 //! applies one to three mutations to its TOML tree, drawn from a ChaCha generator seeded by (seed,
 //! case number): a field deleted or given another type, a number made NaN, ±inf, ±1e308, 0, −1,
 //! 1e-300 or a huge integer or scaled, an id or a name that does not exist, an entry duplicated, an
@@ -32,6 +35,14 @@
 //! - a non-finite number in a CSV or JSON file of the results (serde_json writes NaN and inf as
 //!   null: a null is one but for the fields that are optional);
 //! - any file or folder appearing in the case's scratch folder but `out/` and what is in it.
+//!
+//! One case in eight then continues a completed run from its first saved step (`--restart out
+//! --from K:N --out out2`), which must complete too; one in eight runs again into the same folder
+//! after a user has put a note, the model file itself (run from there) and a link to a folder of
+//! theirs in it (in place of `vtk/`, which they renamed, when there is one). A case also fails on:
+//! - a restart that does not complete where the run did;
+//! - a second run that writes through the link, or changes or removes the note, the model, the
+//!   renamed folder or the link.
 //!
 //! `GEOSLIP_FUZZ_CASES` and `GEOSLIP_FUZZ_SEED` set the number of cases and the seed,
 //! `GEOSLIP_FUZZ_FIRST` the first case's number (to go on with a campaign of the same seed),
@@ -860,18 +871,25 @@ enum Failure {
     Disagreement,
     NonFinite,
     Outside,
+    /// A restart from the run's first saved step that did not complete where the run did.
+    Restart,
+    /// A second run into the same folder that wrote through a link, or changed or removed a file
+    /// it did not write (the user's, or the model's own input).
+    FolderHarm,
     /// A seed model that does not check and run cleanly as it is (the seeds must).
     BrokenSeed,
 }
 
 impl Failure {
-    const ALL: [Failure; 7] = [
+    const ALL: [Failure; 9] = [
         Failure::Panic,
         Failure::Crash,
         Failure::Timeout,
         Failure::Disagreement,
         Failure::NonFinite,
         Failure::Outside,
+        Failure::Restart,
+        Failure::FolderHarm,
         Failure::BrokenSeed,
     ];
     fn label(self) -> &'static str {
@@ -882,6 +900,8 @@ impl Failure {
             Failure::Disagreement => "check/run disagreements",
             Failure::NonFinite => "non-finite results",
             Failure::Outside => "files outside --out",
+            Failure::Restart => "restarts that failed",
+            Failure::FolderHarm => "files lost or linked",
             Failure::BrokenSeed => "seeds that do not run",
         }
     }
@@ -1108,6 +1128,10 @@ fn run_case(seeds: &[Seed], seed: u64, case: usize) -> Outcome {
     std::fs::write(work.join(file_name), &text).unwrap();
     let solver = if !pristine && rng.chance(0.125) { "dense" } else { "faer" };
     let exe = std::env::var_os("GEOSLIP_FUZZ_BIN").unwrap_or_else(|| env!("CARGO_BIN_EXE_geoslip").into());
+    // a folder of the user's beside the model, which a link planted in `out/` points to
+    let victim = root.join("victim");
+    std::fs::create_dir_all(&victim).unwrap();
+    std::fs::write(victim.join("keep.txt"), "the user's").unwrap();
     let before = tree(root, &logs);
 
     let mut failures = Vec::new();
@@ -1149,18 +1173,29 @@ fn run_case(seeds: &[Seed], seed: u64, case: usize) -> Outcome {
         ));
     }
 
-    // only the run's output folder may have appeared
-    let out = Path::new("a/b/work/out");
+    // one case in eight continues from the run's first saved step, one in eight runs again into
+    // the same folder after the user has planted a link, a file and the model itself in it
+    let second = if pristine { 0 } else { rng.below(8) };
+    if second == 0 && run_code == Some(0) {
+        restart(&exe, &work, file_name, solver, &logs, &mut failures);
+    } else if second == 1 {
+        run_again(&exe, &work, file_name, solver, &logs, &victim, &mut failures);
+    }
+
+    // only the run's output folders may have appeared
+    let (out, out2) = (Path::new("a/b/work/out"), Path::new("a/b/work/out2"));
     for path in tree(root, &logs) {
-        if !before.contains(&path) && path != out && !path.starts_with(out) {
+        if !before.contains(&path) && !path.starts_with(out) && !path.starts_with(out2) {
             failures.push((Failure::Outside, format!("{} appeared", path.display())));
             break;
         }
     }
-    for path in tree(&work.join("out"), Path::new("")) {
-        if let Some(what) = non_finite(&work.join("out").join(&path)) {
-            failures.push((Failure::NonFinite, format!("out/{}: {what}", path.display())));
-            break;
+    for folder in ["out", "out2"] {
+        for path in tree(&work.join(folder), Path::new("")) {
+            if let Some(what) = non_finite(&work.join(folder).join(&path)) {
+                failures.push((Failure::NonFinite, format!("{folder}/{}: {what}", path.display())));
+                break;
+            }
         }
     }
 
@@ -1211,6 +1246,106 @@ fn run_case(seeds: &[Seed], seed: u64, case: usize) -> Outcome {
         failures,
         saved,
         seconds: started.elapsed().as_secs_f64(),
+    }
+}
+
+/// Continue the run that completed from its first saved step, into `out2`: it must complete too
+/// (or refuse the saved step with a message), and never panic, crash or hang.
+fn restart(
+    exe: &std::ffi::OsStr,
+    work: &Path,
+    file: &str,
+    solver: &str,
+    logs: &Path,
+    failures: &mut Vec<(Failure, String)>,
+) {
+    let Some(first) = tree(&work.join("out/restart"), Path::new("")).into_iter().next() else { return };
+    // stage-<k>-step-<nnnnn>.bin
+    let name = first.to_string_lossy().into_owned();
+    let Some((stage, step)) = name
+        .strip_prefix("stage-")
+        .and_then(|r| r.strip_suffix(".bin"))
+        .and_then(|r| r.split_once("-step-"))
+        .and_then(|(k, n)| Some((k.parse::<usize>().ok()?, n.parse::<usize>().ok()?)))
+    else {
+        failures.push((Failure::Restart, format!("a saved step named {name:?}")));
+        return;
+    };
+    let from = format!("{stage}:{step}");
+    let mut cmd = Command::new(exe);
+    cmd.current_dir(work).args(["run", file, "--restart", "out", "--from", &from, "--out", "out2", "-q", "--csv"]);
+    cmd.args(["--solver", solver]);
+    let (ended, stderr) = run_limited(cmd, logs, "restart");
+    match judge("geoslip run --restart", &ended, &stderr, failures) {
+        Some(0) | None => {}
+        Some(code) => failures.push((
+            Failure::Restart,
+            format!("the run completed; continued from {from} it exited {code}: {}", first_lines(&stderr)),
+        )),
+    }
+}
+
+/// Run again into the same folder after the user has put a note, a link to a folder of theirs (in
+/// place of one of geoslip's folders when there is one) and the model file itself in it, the model
+/// run from there: the link's target, the note, the model and the folder the user renamed are left
+/// as they were, whatever the run does.
+fn run_again(
+    exe: &std::ffi::OsStr,
+    work: &Path,
+    file: &str,
+    solver: &str,
+    logs: &Path,
+    victim: &Path,
+    failures: &mut Vec<(Failure, String)>,
+) {
+    let out = work.join("out");
+    if std::fs::create_dir_all(&out).is_err() {
+        return;
+    }
+    let model = std::fs::read(work.join(file)).unwrap();
+    std::fs::write(out.join(file), &model).unwrap();
+    std::fs::write(out.join("notes.txt"), "the user's notes").unwrap();
+    let planted = if out.join("vtk").is_dir() {
+        std::fs::rename(out.join("vtk"), out.join("vtk-renamed-by-user")).unwrap();
+        "vtk"
+    } else {
+        "stage-link"
+    };
+    std::os::unix::fs::symlink("../../../../victim", out.join(planted)).unwrap();
+    let kept: Vec<(PathBuf, Vec<u8>)> = tree(&out.join("vtk-renamed-by-user"), Path::new(""))
+        .into_iter()
+        .filter_map(|p| Some((p.clone(), std::fs::read(out.join("vtk-renamed-by-user").join(&p)).ok()?)))
+        .collect();
+
+    let mut cmd = Command::new(exe);
+    let model_path = format!("out/{file}");
+    cmd.current_dir(work).args(["run", &model_path, "--out", "out", "-q", "--csv", "--solver", solver]);
+    let (ended, stderr) = run_limited(cmd, logs, "again");
+    judge("geoslip run (again, into the same folder)", &ended, &stderr, failures);
+
+    let mut harm = Vec::new();
+    if tree(victim, Path::new("")) != [PathBuf::from("keep.txt")]
+        || std::fs::read(victim.join("keep.txt")).ok().as_deref() != Some(&b"the user's"[..])
+    {
+        harm.push("the folder a link points to changed".to_string());
+    }
+    if std::fs::read_link(out.join(planted)).is_err() {
+        harm.push(format!("the link out/{planted} is gone"));
+    }
+    if std::fs::read(out.join("notes.txt")).ok().as_deref() != Some(&b"the user's notes"[..]) {
+        harm.push("out/notes.txt changed or removed".into());
+    }
+    if std::fs::read(out.join(file)).ok().as_deref() != Some(&model[..]) {
+        harm.push(format!("the model out/{file} changed or removed"));
+    }
+    for (p, bytes) in &kept {
+        if std::fs::read(out.join("vtk-renamed-by-user").join(p)).ok().as_deref() != Some(&bytes[..]) {
+            harm.push(format!("out/vtk-renamed-by-user/{} changed or removed", p.display()));
+            break;
+        }
+    }
+    if !harm.is_empty() {
+        failures.push((Failure::FolderHarm, format!("{}: {}", harm.join("; "), first_lines(&stderr))));
     }
 }
 
@@ -1372,4 +1507,44 @@ fn ids_beyond_what_toml_can_hold_are_refused_by_check_and_run() {
             assert!(stderr.contains(&expected), "{what} id, {command}: {stderr}");
         }
     }
+}
+
+/// Found by this fuzzer: a reinforcement pushed 7 m into a 4 m block slides off the end of its
+/// soil faces. Its points there kept an active normal row on a tributary length clipped to zero, and
+/// the results gave their contact stress λ/ℓ as inf (or 1e307). A point with no length left facing
+/// its master face is released within the iteration ("left the end of its master face"): every
+/// number in the results is finite, and no point in contact has a zero tributary length.
+#[test]
+fn a_reinforcement_pushed_off_the_end_of_its_soil_carries_no_contact_on_zero_length() {
+    let text = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fuzz-seeds/paper-block.toml"))
+        .unwrap();
+    assert!(text.contains("ux = -1.0"), "the seed's pull has changed");
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("model.toml"), text.replace("ux = -1.0", "ux = 7.0")).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_geoslip"))
+        .args(["run", "model.toml", "--out", "out", "-q", "--csv", "--solver", "faer"])
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    // the reinforcement leaves the soil: a mechanism, named, after the steps that completed
+    assert!(matches!(out.status.code(), Some(0) | Some(4)), "{stderr}");
+    let mut checked = 0;
+    for path in tree(&dir.path().join("out"), Path::new("")) {
+        let full = dir.path().join("out").join(&path);
+        assert_eq!(non_finite(&full), None, "{}", path.display());
+        if path.file_name().is_some_and(|n| n == "interface.csv") {
+            let csv = std::fs::read_to_string(&full).unwrap();
+            let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+            let col = |name: &str| header.iter().position(|h| h.starts_with(name)).unwrap();
+            let (state, tributary) = (col("state"), col("tributary"));
+            for line in csv.lines().skip(1) {
+                let f: Vec<&str> = line.split(',').collect();
+                let zero = f[tributary].parse::<f64>().unwrap() == 0.0;
+                assert!(!(zero && f[state] == "active"), "{}: {line}", path.display());
+                checked += 1;
+            }
+        }
+    }
+    assert!(checked > 20, "only {checked} interface rows in the results");
 }
