@@ -376,7 +376,7 @@ fn solve(
                 cx.system.stats.assembly_seconds += t.elapsed().as_secs_f64();
                 again
             } else {
-                let diagonal = singular::diagonal_of(&triplets, dofs.free_count);
+                let diagonal = singular::unconstrained_diagonal_of(&triplets, dofs.free_count);
                 singular::warn_if_ill_conditioned(&mut cx.system.stats, cx.model, dofs, state, &diagonal);
                 triplets
             };
@@ -495,14 +495,15 @@ fn solve_condensed(
         let system = linear.inputs(&cx.elements, stiffness, dofs, state);
         let diagonal = match cx.condensed.as_ref().and_then(|c| c.linear_diagonal()) {
             Some(soil) => {
-                let mut diagonal =
-                    singular::diagonal_of(&system.assemble_reinforcement_and_interface(), dofs.free_count);
+                let rest = system.assemble_reinforcement_and_interface();
+                let mut diagonal = singular::diagonal_of(&rest, dofs.free_count);
                 for (d, s) in diagonal.iter_mut().zip(soil) {
                     *d += s;
                 }
+                singular::pass_over_constrained(&mut diagonal, &rest);
                 diagonal
             }
-            None => singular::diagonal_of(&system.assemble(), dofs.free_count),
+            None => singular::unconstrained_diagonal_of(&system.assemble(), dofs.free_count),
         };
         singular::warn_if_ill_conditioned(&mut cx.system.stats, cx.model, dofs, state, &diagonal);
     }

@@ -215,8 +215,11 @@ pub struct ReinforcementBalance {
     /// when its faces have any; the rest is friction and the normal forces.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub bearing_force: Option<[f64; 2]>,
-    /// |applied − interface_force| relative to |applied| (or absolute when nothing is applied).
+    /// |applied − interface_force| relative to `scale` (or absolute when that is zero).
     pub mismatch: f64,
+    /// What `mismatch` is relative to: |applied|, or the model's largest nodal force (applied or
+    /// reaction) when that is more.
+    pub scale: f64,
 }
 
 /// Check, for every interface whose slave nodes belong to no soil element (a reinforcement), that
@@ -307,6 +310,7 @@ pub fn reinforcement_balance(model: &Model, results: &StepResults, state: &State
             bearing_force: has_bearing.then_some([-bearing_carried[0], -bearing_carried[1]]),
             // relative to the applied force, or to the model's force scale below it
             mismatch: if size.max(floor) > 0.0 { diff / size.max(floor) } else { diff },
+            scale: size.max(floor),
         });
     }
     out

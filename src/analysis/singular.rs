@@ -160,9 +160,31 @@ pub fn diagonal_of(triplets: &Triplets, n: usize) -> Vec<f64> {
     diagonal
 }
 
+/// The diagonal of the displacement unknowns that no constraint row holds (the others zero, which
+/// [`StiffnessSpread::of_diagonal`] passes over): a reinforcement node's transverse stiffness is
+/// round-off where its bars are straight, and its normal row holds it there, so its diagonal says
+/// nothing of how well the saddle-point system is conditioned.
+pub fn unconstrained_diagonal_of(triplets: &Triplets, n: usize) -> Vec<f64> {
+    let mut diagonal = diagonal_of(triplets, n);
+    pass_over_constrained(&mut diagonal, triplets);
+    diagonal
+}
+
+/// Zero the entries of `diagonal` (the first `diagonal.len()` equations) that a constraint row of
+/// `triplets` holds.
+pub fn pass_over_constrained(diagonal: &mut [f64], triplets: &Triplets) {
+    let n = diagonal.len();
+    for ((&i, &j), &v) in triplets.rows.iter().zip(&triplets.cols).zip(&triplets.values) {
+        let (i, j) = (i as usize, j as usize);
+        if v != 0.0 && (i < n) != (j < n) {
+            diagonal[i.min(j)] = 0.0;
+        }
+    }
+}
+
 /// Warn (once a run) when a matrix that was solved is ill-conditioned: its results carry round-off
 /// that the residual check may not show. `diagonal`: the matrix's diagonal over the displacement
-/// unknowns (`dofs.free_count`).
+/// unknowns (`dofs.free_count`) that no constraint row holds ([`unconstrained_diagonal_of`]).
 pub fn warn_if_ill_conditioned(stats: &mut SolverStats, model: &Model, dofs: &DofMap, state: &State, diagonal: &[f64]) {
     const WARNING: &str = "the stiffness matrix is ill-conditioned";
     if stats.warnings.iter().any(|w| w.starts_with(WARNING)) {
