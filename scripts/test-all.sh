@@ -67,6 +67,9 @@ fi
 echo "== full build: tests${features[*]:+ (${features[*]})}"
 cargo test --workspace --locked "${features[@]}"
 
+echo "== the numbers the README and docs quote from runs, against the runs"
+python3 scripts/doc-numbers.py --geoslip target/debug/geoslip
+
 echo "== Python package: built by maturin into target/python-env, its tests (pytest) and the parameter study"
 # maturin, pytest, NumPy and matplotlib come from the package registry (PyPI); the module shares
 # target/ with the build above, so only geoslip itself and PyO3 are compiled again

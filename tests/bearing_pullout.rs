@@ -29,7 +29,9 @@ mod common;
 
 use geoslip::linsol::Backend;
 use geoslip::meshgen::PullOutBox;
-use geoslip::model::file::{BearingFormula, BearingSpec, ReinforcementMode, ShearLawSpec};
+use geoslip::model::file::{
+    BearingFormula, BearingSpec, LoadSpec, ModelFile, ReinforcementMode, Scheme, ShearLawSpec, StrengthReductionSpec,
+};
 use geoslip::model::Model;
 
 const Q: f64 = 40.0;
@@ -65,6 +67,10 @@ fn rigid_box(friction_angle: f64, formula: BearingFormula) -> Model {
 }
 
 fn rigid_box_with_cohesion(cohesion: f64, friction_angle: f64, formula: BearingFormula) -> Model {
+    common::model(&rigid_box_file(cohesion, friction_angle, formula, ReinforcementMode::Embedded), "rigid-bearing-box")
+}
+
+fn rigid_box_file(cohesion: f64, friction_angle: f64, formula: BearingFormula, mode: ReinforcementMode) -> ModelFile {
     let mut file = PullOutBox {
         length: 1.0,
         height: 0.4,
@@ -82,7 +88,7 @@ fn rigid_box_with_cohesion(cohesion: f64, friction_angle: f64, formula: BearingF
         ..PullOutBox::default()
     }
     .model();
-    file.interfaces[0].reinforcement.as_mut().unwrap().mode = ReinforcementMode::Embedded;
+    file.interfaces[0].reinforcement.as_mut().unwrap().mode = mode;
     file.interfaces[0].bearing = Some(BearingSpec {
         member_spacing: S,
         member_thickness: B,
@@ -93,7 +99,7 @@ fn rigid_box_with_cohesion(cohesion: f64, friction_angle: f64, formula: BearingF
         mobilisation_displacement: 0.004,
     });
     file.analysis.freeze_normal_stress = true;
-    common::model(&file, "rigid-bearing-box")
+    file
 }
 
 /// One member's bearing force per unit width: αb·B·σb.
@@ -188,4 +194,110 @@ fn cohesion_friction_and_punching_bearing_add_as_the_closed_form_splits_them() {
     let balance = record.balance.iter().find(|b| b.interface == "grid").expect("the grid's balance");
     let carried = balance.bearing_force.expect("the bearing part");
     assert!(common::relative_error(carried[0].abs(), bearing) < 1e-6, "{carried:?} against {bearing}");
+}
+
+/// Friction on both faces at 25° plus general-shear bearing, per metre of grid in the box:
+/// 2·q·tan 25° + αb·B·σb/S (docs/verification.md §8).
+fn resistance_per_metre() -> f64 {
+    2.0 * Q * 25f64.to_radians().tan() + member_force(jewell_general_shear(PHI_SOIL)) / S
+}
+
+#[test]
+fn split_mode_and_the_newton_scheme_give_the_members_and_friction_of_the_closed_form() {
+    // docs/verification.md §8.3 and §8.6. With σn frozen at q on both faces the split and the
+    // embedded forms agree: F = L_in·111.4703 kN/m once every member bears fully. In split mode each
+    // face is a contact face of its own, with half the members' bearing; with the Newton scheme the
+    // bearing's tangent enters the matrix instead of Ks + τb,max/δb. Checked at 10 mm of pull
+    // (2.5 δb; L_in = 0.79 m: 88.0615 kN/m) and, embedded, at the end (0.75 m: 83.6027 kN/m). At
+    // full mobilisation the soil's strain does not enter (1e-6, as above). In split mode the
+    // grid's front point opens on its lower face as the head leaves the slot, and closes again: its
+    // bearing then starts from zero (docs/model-format.md), so the end is not the closed form's.
+    for mode in [ReinforcementMode::Split, ReinforcementMode::Embedded] {
+        for scheme in [Scheme::ConstantStiffness, Scheme::Newton] {
+            let mut file = rigid_box_file(0.0, 25.0, BearingFormula::GeneralShear, mode);
+            file.analysis.scheme = scheme;
+            let model = common::model(&file, "rigid-bearing-box");
+            let c = common::run(&model, Backend::Faer);
+            let forces = common::head_forces(&model, &c, "grid.head");
+            // 2 mm a step: the fifth pull step is at 10 mm
+            let at_10mm = (0.8 - 0.010) * resistance_per_metre();
+            assert!(
+                common::relative_error(forces[4], at_10mm) < 1e-6,
+                "{mode:?}, {scheme:?}: {} against {at_10mm} at 10 mm",
+                forces[4]
+            );
+            if mode == ReinforcementMode::Embedded {
+                let end = (0.8 - PULL) * resistance_per_metre();
+                let last = *forces.last().unwrap();
+                assert!(common::relative_error(last, end) < 1e-6, "{scheme:?}: {last} against {end}");
+            }
+        }
+    }
+}
+
+#[test]
+fn a_reversal_unloads_the_members_with_their_mobilisation_slope_and_bears_the_other_way() {
+    // docs/verification.md §8, reversal: the head pulled out 10 mm (every member fully bearing,
+    // 2.5 δb), then pushed back 5 mm. The members unload with the slope τb,max/δb and bear in the
+    // reversed direction: after 5 mm back, τb = τb,max·(1 − 5/4) = −0.25 τb,max. Friction unloads
+    // with Ks and is fully reversed after 2·q·tan φ/Ks = 1.87 mm. So the head pushes with
+    // (0.8 − 0.005 m)·(2·q·tan 25° + 0.25·αb·B·σb/S) = (0.795)·(37.305 + 18.541) = 44.398 kN/m.
+    // The members are mobilised partly there, so the soil's own strain takes its share of the
+    // slip as in the first step of `a_bearing_only_grid_…` (4e-4 there), hence 2e-3.
+    for scheme in [Scheme::ConstantStiffness, Scheme::Newton] {
+        let mut file = rigid_box_file(0.0, 25.0, BearingFormula::GeneralShear, ReinforcementMode::Embedded);
+        file.analysis.scheme = scheme;
+        let pull = &mut file.stages[1];
+        pull.load_factors = vec![1.0];
+        pull.history = Some(vec![[1.0, 0.2], [2.0, 0.1]]);
+        pull.history_increment = Some(0.01);
+        let model = common::model(&file, "rigid-bearing-box");
+        let c = common::run(&model, Backend::Faer);
+        let forces = common::head_forces(&model, &c, "grid.head");
+        assert_eq!(forces.len(), 30, "{scheme:?}: 20 steps out, 10 back");
+        let out = forces[19];
+        let at_10mm = (0.8 - 0.010) * resistance_per_metre();
+        assert!(common::relative_error(out, at_10mm) < 1e-6, "{scheme:?}: {out} against {at_10mm}");
+        let last = *forces.last().unwrap();
+        let tan = 25f64.to_radians().tan();
+        let expected = (0.8 - 0.005) * (2.0 * Q * tan + 0.25 * member_force(jewell_general_shear(PHI_SOIL)) / S);
+        assert!(common::relative_error(last, expected) < 2e-3, "{scheme:?}: {last} against {expected}");
+    }
+}
+
+#[test]
+fn strength_reduction_divides_the_members_bearing_with_the_friction() {
+    // docs/verification.md §8, strength reduction: the head held by a force P, half of what the
+    // grid resists once the members bear fully; a strength-reduction search divides c, tan φ and
+    // the members' bearing by F. The grid slides out once the reduced resistance of what is still
+    // in the box falls below P. The resistance (0.8 − s)·(friction + bearing(s))/F is largest at
+    // the slip s = δb = 4 mm where the members have just become fully mobilised, so
+    // FS = (0.8 − 0.004)·(2·q·tan 25° + αb·B·σb/S)/P = 0.796/0.4 = 1.99 exactly: the search's
+    // bracket (tolerance 1e-3) must hold it.
+    let full = 0.8 * resistance_per_metre();
+    let p = 0.5 * full;
+    let mut file = rigid_box_file(0.0, 25.0, BearingFormula::GeneralShear, ReinforcementMode::Embedded);
+    file.analysis.scheme = Scheme::Newton;
+    file.analysis.max_iterations = 200;
+    let hold = &mut file.stages[1];
+    hold.name = "held".into();
+    hold.prescribed.clear();
+    hold.load_factors = vec![0.25, 0.5, 0.75, 1.0];
+    hold.loads = vec![LoadSpec::Point { node: None, nodes: None, set: Some("grid.head".into()), fx: -p, fy: 0.0 }];
+    file.stages.push(geoslip::model::file::Stage {
+        name: "factor of safety".into(),
+        strength_reduction: Some(StrengthReductionSpec {
+            reduce: geoslip::model::file::ReducedStrengths::Interfaces,
+            tolerance: Some(1e-3),
+            max_factor: None,
+        }),
+        ..Default::default()
+    });
+    let model = common::model(&file, "rigid-bearing-box");
+    let c = common::run(&model, Backend::Faer);
+    let fs = c.factors_of_safety.last().expect("the stage's FS");
+    let exact = (0.8 - 0.004) * resistance_per_metre() / p;
+    let failed = fs.failed_at.expect("the search bracketed FS");
+    assert!(fs.value <= exact * (1.0 + 1e-6) && failed >= exact * (1.0 - 1e-6), "{fs:?} against {exact}");
+    assert!(failed / fs.value - 1.0 < 2.5e-3, "{fs:?}");
 }

@@ -102,54 +102,66 @@ fn three_pull_out_curves_give_back_ks_and_phi() {
     assert!(!cohesion.fitted && cohesion.value == 0.0 && cohesion.interval.is_none());
 }
 
-/// The finite-element model of the test, for what the closed form does not cover: an extensible
-/// grid (EA = 2000 kN/m) in a deformable soil (E = 20 MPa, ν = 0.3) with σn from the multipliers.
-/// The curves are those of geoslip's pull-out box built by `meshgen` (0.5 m × 0.2 m, 10 × 4 quad4,
-/// the grid over 0.4 m, Ks = 20 000 kPa/m, c = 0, φ = 30°, q = 20, 40, 80 kPa, 10 mm in 10 steps) with
-/// 2 % noise; the calibration builds its own box from `[pull_out.box]` and runs it for every trial.
-#[test]
-fn the_finite_element_model_gives_back_ks_and_phi_of_an_extensible_grid() {
+/// A rigid grid (EA = 10⁸ kN/m) on rigid soil (E = 10⁷ kPa, no weight) at σn = q slips the same
+/// s = u everywhere, and what is still in the soil is L − u long, so its pull-out force is
+/// P(u) = 2·(L − u)·τ(u) with τ the law's monotonic curve at σn = q, written in the tests' own
+/// words from docs/model-format.md (`common::law_curve`; docs/verification.md §2.3 and §4). The grid's stretch moves its head by P·L/EA ≤ 0.3 µm,
+/// 3e-4 of the first 1 mm point, against the data's 2 % noise.
+fn rigid_pull_out(law: &ShearLawSpec, q: f64, u: f64) -> f64 {
+    2.0 * (BOX_EMBEDDED - u) * common::law_curve::monotonic(law, q, u)
+}
+
+const BOX_EMBEDDED: f64 = 0.4;
+
+/// Curves of `rigid_pull_out` at q = 20, 40, 80 kPa, every 0.5 mm to 10 mm, 2 % noise (seed 2026), in
+/// N/m; calibrated by the finite-element model of `[pull_out.box]` (0.5 m × 0.2 m, 10 × 4 quad4,
+/// run for every trial) with c held at 0 (and c_r for softening).
+fn calibrate_box_from(law: &ShearLawSpec, name: &str, fixed: &str) -> calibration::Calibration {
     let mut rng = rand::rngs::StdRng::seed_from_u64(2026);
     let noise = Normal::new(0.0, 0.02).unwrap();
     let mut csv = String::from("surcharge [kPa],displacement [mm],force [N/m]\n");
     for q in [20.0, 40.0, 80.0] {
-        let file = PullOutBox {
-            length: 0.5,
-            height: 0.2,
-            embedded: 0.4,
-            nx: 10,
-            ny_half: 2,
-            youngs_modulus: 20_000.0,
-            poissons_ratio: 0.3,
-            unit_weight: 0.0,
-            axial_stiffness: 2000.0,
-            law: ShearLawSpec::Coulomb { shear_stiffness: 20_000.0, cohesion: 0.0, friction_angle: PHI },
-            surcharge: q,
-            pull: 0.01,
-            steps: 10,
-            ..PullOutBox::default()
-        }
-        .model();
-        let model = common::model(&file, "pull-out.toml");
-        let c = common::run(&model, Backend::available()[0]);
-        for (k, p) in common::head_forces(&model, &c, "grid.head").into_iter().enumerate() {
-            let _ = writeln!(csv, "{q},{},{}", k + 1, 1e3 * p * (1.0 + noise.sample(&mut rng)));
+        for k in 1..=20 {
+            let u = 0.5e-3 * k as f64;
+            let _ =
+                writeln!(csv, "{q},{},{}", 1e3 * u, 1e3 * rigid_pull_out(law, q, u) * (1.0 + noise.sample(&mut rng)));
         }
     }
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("pull-out.csv"), csv).unwrap();
-    let toml = "test = \"pull-out\"\ndata = \"pull-out.csv\"\nlaw = \"coulomb\"\n[fixed]\ncohesion = 0.0\n\
-                [pull_out]\nembedded_length = 0.4\naxial_stiffness = 2000.0\nmodel = \"finite-element\"\n\
-                [pull_out.box]\nlength = 0.5\nheight = 0.2\nyoungs_modulus = 20000.0\npoissons_ratio = 0.3\n\
-                elements = 10\nsteps = 10\n";
+    let toml = format!(
+        "test = \"pull-out\"\ndata = \"pull-out.csv\"\nlaw = \"{name}\"\n[fixed]\n{fixed}\n\
+         [pull_out]\nembedded_length = {BOX_EMBEDDED}\naxial_stiffness = 1e8\nmodel = \"finite-element\"\n\
+         [pull_out.box]\nlength = 0.5\nheight = 0.2\nyoungs_modulus = 1e7\npoissons_ratio = 0.3\n\
+         elements = 10\nsteps = 20\n"
+    );
     std::fs::write(dir.path().join("calibration.toml"), toml).unwrap();
     let spec = spec::load(&dir.path().join("calibration.toml")).unwrap_or_else(|e| panic!("{e}"));
-    let c = calibration::calibrate(&spec).unwrap_or_else(|e| panic!("{e}"));
-    assert_eq!(c.box_embedded_length, Some(0.4));
-    for (name, truth) in [("shear_stiffness", 20_000.0), ("friction_angle", PHI)] {
+    calibration::calibrate(&spec).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// Every parameter within 3 % of the value that made the curves (the issue's goal). Not inside its
+/// 95 % interval: the interval measures the noise, and the box differs from the closed form by more
+/// than the noise leaves (its σn, from the multipliers, is not exactly q along the grid; the
+/// Coulomb fit's φ comes out 0.8 % high, its interval ±0.6 %).
+fn assert_recovered(c: &calibration::Calibration, truths: &[(&str, f64)]) {
+    for &(name, truth) in truths {
         let p = c.parameters.iter().find(|p| p.name == name).unwrap();
-        let (lo, hi) = p.interval.unwrap();
         assert!((p.value - truth).abs() < 0.03 * truth, "{name}: {} against {truth}", p.value);
-        assert!(lo <= truth && truth <= hi, "{name}: {truth} outside the 95 % interval {lo} … {hi}");
     }
+}
+
+#[test]
+fn the_finite_element_model_gives_back_the_coulomb_law_from_curves_it_did_not_make() {
+    let law = ShearLawSpec::Coulomb { shear_stiffness: 20_000.0, cohesion: 0.0, friction_angle: PHI };
+    let c = calibrate_box_from(&law, "coulomb", "cohesion = 0.0");
+    assert_eq!(c.box_embedded_length, Some(BOX_EMBEDDED));
+    assert_recovered(&c, &[("shear_stiffness", 20_000.0), ("friction_angle", PHI)]);
+}
+
+#[test]
+fn the_finite_element_model_gives_back_the_hyperbolic_law_from_pull_out_curves() {
+    let law = ShearLawSpec::Hyperbolic { shear_stiffness: 20_000.0, cohesion: 0.0, friction_angle: PHI };
+    let c = calibrate_box_from(&law, "hyperbolic", "cohesion = 0.0");
+    assert_recovered(&c, &[("shear_stiffness", 20_000.0), ("friction_angle", PHI)]);
 }

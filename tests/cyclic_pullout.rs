@@ -46,8 +46,10 @@ fn every_backend_draws_the_same_closed_loops() {
     assert_eq!(reversals, vec![1.0, -1.0, 1.0, -1.0, 1.0, -1.0]);
     // the force at −5 mm (pulled out) at each return: the loop closes
     let out: Vec<f64> = [10, 50, 90, 130].iter().map(|&k| loop_ref[k - 1].1).collect();
+    // (the first return follows the first loading from rest, not a loop; between the later returns
+    // the force differs by 4e-5 of itself, measured; 2e-4 is five times that)
     for w in out.windows(2).skip(1) {
-        assert!((w[1] - w[0]).abs() < 0.01 * w[0].abs(), "the force at −5 mm: {out:?}");
+        assert!((w[1] - w[0]).abs() < 2e-4 * w[0].abs(), "the force at −5 mm: {out:?}");
     }
     // the force resists the motion: one sign pulled out, the other pushed in (at +5 mm, step 30)
     assert!(out.iter().all(|&f| f.signum() == out[0].signum()), "{out:?}");

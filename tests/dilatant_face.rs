@@ -1,6 +1,6 @@
 //! Dilatancy on the multiplier: a soil column sliding on a rigid base whose face dilates.
 //!
-//! Reference: one-dimensional confined compression of a linear elastic column (plane strain, no
+//! Reference: docs/verification.md §9: one-dimensional confined compression of a linear elastic column (plane strain, no
 //! lateral strain): σ_yy changes by M·Δε_yy, M = E(1 − ν)/((1 + ν)(1 − 2ν)) the confined modulus.
 //! The face's tie holds the column's base above the base plate by the dilation d = tan ψ·κ (κ the
 //! plastic slip), up to d_max. With the lid held after the surcharge q, the column (height H) is
@@ -20,6 +20,14 @@
 //! steps. Goal: σn at every point to 1e-6 of the closed form at every step, on the dense reference
 //! and faer (both iteration schemes), with the lid held; the cap reached and held; with the lid free, σn = q and the block
 //! lifted by d.
+//!
+//! With the lid free σn stays q whatever the law, so the lift is d = min(tan ψ·κ, d_max) with κ the
+//! law's own plastic slip: for peak-residual, τ = τp = q·tan φ up to the peak slip q·tan φ/Ks and
+//! τr = q·tan φr after it, so κ = s − τr/Ks once past the peak; for softening (the strength falling
+//! linearly from τp to τr over κs of plastic slip) κ = (s − τp/Ks)/(1 − (τp − τr)/(κs·Ks)) until
+//! κ = κs, then s − τr/Ks. Through a reversal (Coulomb, out to +a and back to 0) the plastic slip of
+//! both directions adds: κ = (a − τp/Ks) + (a − s − 2τp/Ks) once sliding back, κ from either
+//! direction counted (docs/model-format.md).
 
 mod common;
 
@@ -138,4 +146,92 @@ fn with_the_lid_free_the_normal_stress_stays_the_surcharge_and_the_column_rises(
         assert!((dilation[0] - d).abs() < 1e-9, "at s = {s}: dilation {} against {d}", dilation[0]);
         assert!((lid - lid_before - d).abs() < 1e-9, "at s = {s}: the lid rose {} against {d}", lid - lid_before);
     }
+}
+
+/// The lid-free block's lift at every step of a run of `law` (the block's lid before sliding as
+/// the datum) against `expected(s)`, with `history` the stage's factors of `SLIDE` (or `None`:
+/// 40 equal steps out).
+fn lift_follows(law: ShearLawSpec, history: Option<Vec<[f64; 2]>>, d_max: f64, expected: impl Fn(usize, f64) -> f64) {
+    let mut file = block_on_rigid_base(law.clone(), Q, SLIDE, (1..=STEPS).map(|k| k as f64 / STEPS as f64).collect());
+    file.interfaces[0].dilation = Some(DilationSpec { angle: PSI, max_dilation: d_max });
+    if let Some(h) = history {
+        file.stages[1].load_factors = vec![1.0];
+        file.stages[1].history = Some(h);
+        file.stages[1].history_increment = Some(0.025);
+    }
+    file.analysis.scheme = Scheme::Newton;
+    let model = common::model(&file, "dilatant-block");
+    let c = common::run(&model, Backend::Faer);
+    let before = c.steps.iter().find(|(r, _)| r.stage_index == 0).map(|(_, s)| s).unwrap();
+    let lid_before = before.displacements.iter().find(|d| (d.1[1] - H).abs() < 1e-12).map(|d| d.2[1]).unwrap();
+    let mut branch = 0;
+    let mut largest: f64 = 0.0;
+    for (k, (s, sigma, dilation, lid)) in sliding_steps(&c).into_iter().enumerate() {
+        let d = expected(branch, s);
+        for sn in &sigma {
+            assert!(common::relative_error(*sn, Q) < 1e-9, "{law:?} at s = {s}: σn {sn}");
+        }
+        assert!((dilation[0] - d).abs() < 1e-9, "{law:?} at s = {s}: dilation {} against {d}", dilation[0]);
+        assert!(
+            (lid - lid_before - d).abs() < 1e-9,
+            "{law:?} at s = {s}: the lid rose {} against {d}",
+            lid - lid_before
+        );
+        largest = largest.max(d);
+        if c.steps.iter().filter(|(r, _)| r.stage_index == 1).nth(k).is_some_and(|(r, _)| r.reversal) {
+            branch += 1;
+        }
+    }
+    assert!(largest > 0.5 * d_max.min(0.002), "{law:?}: the face dilated only {largest}");
+}
+
+#[test]
+fn with_the_lid_free_a_peak_residual_face_dilates_by_its_own_plastic_slip() {
+    let law = ShearLawSpec::PeakResidual {
+        shear_stiffness: KS,
+        cohesion: 0.0,
+        friction_angle: PHI,
+        residual_cohesion: 0.0,
+        residual_friction_angle: 20.0,
+    };
+    let (tp, tr) = (Q * PHI.to_radians().tan(), Q * 20f64.to_radians().tan());
+    let tan_psi = PSI.to_radians().tan();
+    lift_follows(law, None, 0.01, |_, s| if s <= tp / KS { 0.0 } else { (tan_psi * (s - tr / KS)).min(0.01) });
+}
+
+#[test]
+fn with_the_lid_free_a_softening_face_dilates_by_its_own_plastic_slip() {
+    let kappa_s = 0.005;
+    let law = ShearLawSpec::Softening {
+        shear_stiffness: KS,
+        cohesion: 0.0,
+        friction_angle: PHI,
+        residual_cohesion: 0.0,
+        residual_friction_angle: 20.0,
+        softening_slip: kappa_s,
+    };
+    let (tp, tr) = (Q * PHI.to_radians().tan(), Q * 20f64.to_radians().tan());
+    let tan_psi = PSI.to_radians().tan();
+    lift_follows(law, None, 0.01, |_, s| {
+        if s <= tp / KS {
+            return 0.0;
+        }
+        let kappa = (s - tp / KS) / (1.0 - (tp - tr) / (kappa_s * KS));
+        let kappa = if kappa < kappa_s { kappa } else { s - tr / KS };
+        (tan_psi * kappa).min(0.01)
+    });
+}
+
+#[test]
+fn through_a_reversal_the_plastic_slip_of_both_directions_dilates() {
+    // out to +10 mm (factor 0.5 of SLIDE), back to 0
+    let law = ShearLawSpec::Coulomb { shear_stiffness: KS, cohesion: 0.0, friction_angle: PHI };
+    let a = 0.5 * SLIDE;
+    let tp = Q * PHI.to_radians().tan();
+    let tan_psi = PSI.to_radians().tan();
+    lift_follows(law, Some(vec![[1.0, 0.5], [2.0, 0.0]]), 0.01, |branch, s| {
+        let out = if branch == 0 { (s - tp / KS).max(0.0) } else { a - tp / KS };
+        let back = if branch == 0 { 0.0 } else { (a - s - 2.0 * tp / KS).max(0.0) };
+        (tan_psi * (out + back)).min(0.01)
+    });
 }

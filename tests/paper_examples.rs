@@ -10,8 +10,11 @@
 //!     at about 1.2 cm), then the whole length slips and the pull-out resistance peaks (the paper:
 //!     3.7 cm), after which T(x) is linear: the mobilised shear is constant along the grid. The
 //!     example's properties were chosen from the rigid-bed closed forms to put these events at the
-//!     paper's displacements; the deformable clay moves them, so they are checked within 20 % and
-//!     30 %.
+//!     paper's displacements; the deformable clay moves them: measured, the first slip at 11 mm
+//!     (−8 %) and the whole length at 45 mm (+22 %; scripts/doc-numbers.py checks both in the
+//!     README). The paper's soil moduli are only in its figures, and its events are read off
+//!     them to a millimetre or two, so the tolerances are 20 % (2.5 times the first) and 30 % (1.4
+//!     times the second): they fail if an event moves by more than a few millimetres.
 
 mod common;
 

@@ -3,8 +3,8 @@
 //! Reference: the run itself, uninterrupted. A run continued from the saved state of step k
 //! (written to its file and read back) must make every later step as the straight run made it,
 //! to 1e-12 of each field's scale, on every backend; a model with a stage added after the saved
-//! step must give that stage as the longer model run from the start; a changed mesh, material or
-//! earlier stage is refused with the reason.
+//! step must give that stage as the longer model run from the start; a changed mesh, material,
+//! interface, support or earlier stage is refused with the reason.
 //!
 //! The model: the pull-out box of `geoslip::meshgen::PullOutBox` (surcharge, then the grid pulled
 //! 12 mm in 8 steps) with a Coulomb interface, so that the continued steps carry slip, plastic slip
@@ -12,14 +12,11 @@
 
 mod common;
 
-use geoslip::analysis::{self, Checkpoint, Collect, RunOptions};
 use geoslip::linsol::Backend;
 use geoslip::meshgen::PullOutBox;
 use geoslip::model::file::*;
-use geoslip::model::Model;
-use geoslip::output::checkpoints::{self, From};
 
-use common::Saved;
+use common::restart::{assert_same_steps, resume, run_saving, through_file};
 
 fn pullout(pull: f64, steps: usize) -> ModelFile {
     PullOutBox {
@@ -31,71 +28,6 @@ fn pullout(pull: f64, steps: usize) -> ModelFile {
         ..PullOutBox::default()
     }
     .model()
-}
-
-fn run_saving(model: &Model, backend: Backend) -> Saved {
-    let mut saved = Saved::default();
-    analysis::run(model, &RunOptions::for_model(model, backend), &mut saved).unwrap_or_else(|e| panic!("{e}"));
-    saved
-}
-
-/// The saved state of `stage:step`, through its file: written by the output module, read back and
-/// checked against `model`.
-fn through_file(saved: &Saved, stage: &str, step: usize, model: &Model) -> Result<Checkpoint, geoslip::Error> {
-    let dir = tempfile::tempdir().unwrap();
-    common::write_saved_steps(dir.path(), &saved.checkpoints);
-    checkpoints::read(dir.path(), &From { stage: stage.into(), step }, model, None)
-}
-
-fn resume(model: &Model, backend: Backend, checkpoint: Checkpoint) -> Collect {
-    let mut c = Collect::default();
-    analysis::resume(model, &RunOptions::for_model(model, backend), checkpoint, &mut c)
-        .unwrap_or_else(|e| panic!("{e}"));
-    c
-}
-
-fn largest(v: impl Iterator<Item = f64>) -> f64 {
-    v.fold(0.0f64, |m, x| m.max(x.abs())).max(1e-300)
-}
-
-/// Every field of `continued` against the same steps of `straight` (from its step `first` on), to
-/// 1e-12 of each field's largest value.
-fn assert_same_steps(straight: &Collect, first: usize, continued: &Collect, what: &str) {
-    assert_eq!(continued.steps.len(), straight.steps.len() - first, "{what}: number of steps");
-    for ((ra, a), (rb, b)) in straight.steps[first..].iter().zip(&continued.steps) {
-        assert_eq!((ra.stage.as_str(), ra.step), (rb.stage.as_str(), rb.step), "{what}: step numbering");
-        let fields: [(&str, Vec<f64>, Vec<f64>); 5] = [
-            ("displacement", a.displacement_vector.clone(), b.displacement_vector.clone()),
-            ("reaction", a.reaction_vector.clone(), b.reaction_vector.clone()),
-            (
-                "tau",
-                a.interface_points.iter().map(|p| p.tau).collect(),
-                b.interface_points.iter().map(|p| p.tau).collect(),
-            ),
-            (
-                "sigma_n",
-                a.interface_points.iter().map(|p| p.sigma_n).collect(),
-                b.interface_points.iter().map(|p| p.sigma_n).collect(),
-            ),
-            (
-                "bar force",
-                a.bar_forces.iter().map(|f| f.axial_force).collect(),
-                b.bar_forces.iter().map(|f| f.axial_force).collect(),
-            ),
-        ];
-        for (name, x, y) in fields {
-            assert_eq!(x.len(), y.len(), "{what}: {name} sizes at {} step {}", ra.stage, ra.step);
-            let scale = largest(x.iter().copied());
-            let diff = largest(x.iter().zip(&y).map(|(p, q)| p - q));
-            assert!(
-                diff <= 1e-12 * scale || diff < 1e-250,
-                "{what}: {name} at stage {} step {} differs by {diff:.2e} of {scale:.2e}",
-                ra.stage,
-                ra.step
-            );
-        }
-        assert_eq!(ra.iterations, rb.iterations, "{what}: iterations at {} step {}", ra.stage, ra.step);
-    }
 }
 
 #[test]
@@ -151,7 +83,7 @@ fn a_stage_added_after_the_saved_step_runs_as_in_the_longer_model() {
 }
 
 #[test]
-fn a_changed_mesh_material_or_earlier_stage_is_refused_with_the_reason() {
+fn a_changed_mesh_material_interface_support_or_earlier_stage_is_refused_with_the_reason() {
     let model = common::model(&pullout(0.012, 8), "restart.toml");
     let saved = run_saving(&model, Backend::Faer);
 
@@ -165,6 +97,17 @@ fn a_changed_mesh_material_or_earlier_stage_is_refused_with_the_reason() {
     softer.materials.soil.values_mut().for_each(|m| m.youngs_modulus *= 0.5);
     let e = through_file(&saved, "pull-out", 3, &common::model(&softer, "softer.toml")).unwrap_err().to_string();
     assert!(e.contains("the materials changed"), "{e}");
+
+    let mut rougher = pullout(0.012, 8);
+    rougher.interfaces[0].law =
+        ShearLawSpec::Coulomb { shear_stiffness: 20_000.0, cohesion: 2.0, friction_angle: 30.0 };
+    let e = through_file(&saved, "pull-out", 3, &common::model(&rougher, "rougher.toml")).unwrap_err().to_string();
+    assert!(e.contains("the interfaces changed"), "{e}");
+
+    let mut held = pullout(0.012, 8);
+    held.supports.pop();
+    let e = through_file(&saved, "pull-out", 3, &common::model(&held, "held.toml")).unwrap_err().to_string();
+    assert!(e.contains("the supports changed"), "{e}");
 
     let mut faster = pullout(0.012, 8);
     faster.stages[1].load_factors = vec![0.5, 1.0];

@@ -6,7 +6,7 @@
 //!   strain): σr(a) = −q·(2λ + 4μ)/(2λ + 2μ + 2μ·a²/b²); the grout, 667 times stiffer than the
 //!   sand, is rigid to 1 %;
 //! - at every pull step the head's force equals the shaft's Στ·area (its force balance, 1e-6);
-//! - the peak pull-out force within 10 % of 2πr·L·σn·tan φ′ with the confined σn (the shaft's σn
+//! - the peak pull-out force within 0.5 % of 2πr·L·σn·tan φ′ with the confined σn (the shaft's σn
 //!   moves a little as the grout stretches and its head leaves the ground);
 //! - every backend but the dense reference (the model is above its size) gives the same curve.
 
@@ -59,8 +59,11 @@ fn soil_nail_confinement_balance_and_capacity() {
         }
         let peak = forces.iter().cloned().fold(0.0f64, f64::max);
         let capacity = 2.0 * PI * RADIUS * BONDED * expected * 35f64.to_radians().tan();
+        // measured 0.12 %: the shaft's σn moves a little from Lamé's as the grout stretches and its
+        // head leaves the ground; 0.5 %, four times that
+        eprintln!("{backend:?}: peak {peak:.4} kN against {capacity:.4} kN");
         assert!(
-            common::relative_error(peak, capacity) < 0.10,
+            common::relative_error(peak, capacity) < 0.005,
             "{backend:?}: peak {peak} kN against 2πr·L·σn·tan φ′ = {capacity} kN"
         );
         // the bonded length leaves the ground: the force falls after the peak

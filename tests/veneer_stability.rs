@@ -255,7 +255,9 @@ fn a_long_slope_with_no_toe_has_the_infinite_slope_factor_of_safety() {
     let (beta, phi_i): (f64, f64) = (18.43, 24.0);
     let exact = phi_i.to_radians().tan() / beta.to_radians().tan();
     let fs = factor_of_safety(&lined_slope(beta, 15.0 * H, false, phi_i, 35.0, ReducedStrengths::Interfaces));
-    assert!(common::relative_error(fs, exact) < 0.01, "FS {fs:.4} against tan φ_i / tan β = {exact:.4}");
+    eprintln!("FS {fs:.4} against tan φ_i / tan β = {exact:.4}");
+    // measured +0.02 %; the search's bracket is 0.2 % wide, so 0.3 %
+    assert!(common::relative_error(fs, exact) < 0.003, "FS {fs:.4} against tan φ_i / tan β = {exact:.4}");
 }
 
 /// The two-wedge method's L runs h / sin β past the toe corner O (its active wedge rests on
@@ -289,21 +291,23 @@ fn two_wedge_force(beta_deg: f64, length: f64, phi_i: f64, phi: f64, target: f64
 fn the_two_wedge_geosynthetic_force_for_a_target_factor_of_safety_gives_that_factor() {
     let (phi_i, phi): (f64, f64) = (24.0, 35.0);
     let length = 15.0 * H;
-    for (beta, target) in [(21.8f64, 1.8), (26.57, 1.5)] {
+    // measured +2.4 % and −0.1 % (docs/soil.md): the deforming cover is not the method's two rigid
+    // wedges; about twice each, with the search's 0.2 % as a floor
+    for (beta, target, tolerance) in [(21.8f64, 1.8, 0.05), (26.57, 1.5, 0.005)] {
         let unreinforced = two_wedge(beta, length, phi_i, phi, 0.0);
         assert!(unreinforced < 0.9 * target, "the slope needs the geosynthetic: FS {unreinforced:.3} without");
         let force = two_wedge_force(beta, length, phi_i, phi, target);
         let fs = factor_of_safety(&lined_slope_with_pull(beta, liner_length(beta, length), phi_i, phi, force));
         eprintln!("β = {beta}°: T = {force:.3} kN/m, FS {fs:.4} (target {target})");
         assert!(
-            common::relative_error(fs, target) < 0.05,
+            common::relative_error(fs, target) < tolerance,
             "β = {beta}°, T = {force:.3} kN/m: FS {fs:.4} against the two-wedge target {target}"
         );
     }
 }
 
 /// The geosynthetic anchored at the crest instead (tension-only, EA = 1000 kN/m), with the two-wedge
-/// force for FS = 1.35 on a 2H:1V slope as its rupture strength: the search finds FS within 5 % of
+/// force for FS = 1.35 on a 2H:1V slope as its rupture strength: the search finds FS within 3 % of
 /// 1.35 (the grid at its strength there), and reports the rupture that ends it.
 #[test]
 fn an_anchored_geosynthetic_ruptures_at_the_two_wedge_factor_of_safety_for_its_strength() {
@@ -325,7 +329,8 @@ fn an_anchored_geosynthetic_ruptures_at_the_two_wedge_factor_of_safety_for_its_s
     let why = fs.failure.clone().unwrap_or_default();
     let t_max = c.steps.last().unwrap().1.bar_forces.iter().map(|b| b.axial_force).fold(0.0, f64::max);
     eprintln!("T_ult = {strength:.3} kN/m: FS {:.4}, T_max there {t_max:.3}; {why}", fs.value);
-    assert!(common::relative_error(fs.value, target) < 0.05, "FS {:.4} against {target}", fs.value);
+    // measured +1.4 % (docs/soil.md): twice that
+    assert!(common::relative_error(fs.value, target) < 0.03, "FS {:.4} against {target}", fs.value);
     assert!(t_max > 0.95 * strength, "at FS the grid is near its strength: {t_max:.3} of {strength:.3} kN/m");
     assert!(why.contains("bars of geogrid"), "the failure names the ruptured geosynthetic: {why}");
 }
@@ -335,15 +340,18 @@ fn an_anchored_geosynthetic_ruptures_at_the_two_wedge_factor_of_safety_for_its_s
 fn a_toe_gives_the_two_wedge_factor_of_safety_at_three_slope_angles() {
     let (phi_i, phi): (f64, f64) = (24.0, 35.0);
     let length = 15.0 * H;
-    for beta in [18.43f64, 21.8, 26.57] {
+    // measured +0.1 %, +1.5 % and +0.4 % (docs/soil.md): the deforming cover is not the method's two
+    // rigid wedges; about twice each, with the search's 0.2 % as a floor
+    for (beta, tolerance) in [(18.43f64, 0.005), (21.8, 0.03), (26.57, 0.008)] {
         let no_toe = phi_i.to_radians().tan() / f64::to_radians(beta).tan();
         let exact = two_wedge(beta, length, phi_i, phi, 0.0);
         assert!(exact > 1.2 * no_toe, "at this L/h the toe must matter: {exact} against {no_toe}");
         let model =
             lined_slope(beta, liner_length(beta, length), true, phi_i, phi, ReducedStrengths::SoilAndInterfaces);
         let fs = factor_of_safety(&model);
+        eprintln!("β = {beta}°: FS {fs:.4} against the two-wedge {exact:.4}");
         assert!(
-            common::relative_error(fs, exact) < 0.05,
+            common::relative_error(fs, exact) < tolerance,
             "β = {beta}°: FS {fs:.4} against the two-wedge {exact:.4} (no toe: {no_toe:.4})"
         );
     }

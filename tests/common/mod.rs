@@ -1,6 +1,8 @@
 //! Helpers shared by the integration tests.
 #![allow(dead_code)]
 
+pub mod law_curve;
+pub mod restart;
 pub mod slip;
 
 use geoslip::analysis::{self, Collect, RunOptions};

@@ -1,0 +1,254 @@
+#!/usr/bin/env python3
+"""Every number the README and docs quote from a geoslip run, produced by the runs themselves.
+
+A document marks a number it quotes from a run as
+
+    <!-- number: ID -->12.84<!-- /number -->
+
+and a table or list made from runs as
+
+    <!-- numbers: ID -->
+    | ... |
+    <!-- /numbers -->
+
+This script runs the models (each once), computes every ID below, and compares. With --write it
+puts the computed text in place; without, it fails (exit 1) where a document and a run disagree,
+and where a document marks an ID that no run produces. The numbers are formatted to the digits
+the documents state, so "disagree" means beyond those digits.
+
+    python3 scripts/doc-numbers.py [--geoslip PATH] [--write] [--keep DIR] [--list]
+
+  --geoslip PATH  the geoslip binary (default: target/release/geoslip, then target/debug/geoslip)
+  --write         rewrite the marked text in README.md and docs/*.md with the runs' numbers
+  --keep DIR      run into DIR (kept) instead of a temporary folder
+  --list          print every number the runs give, by ID
+
+The runs (about a minute with a release build):
+  clay-segment, clay-nearest-node, clay-mortar
+      examples/paper-pullout-clay.toml with each re-association rule (docs/reassociation.md)
+  lab-series
+      examples/lab-pullout/lab-pullout.toml: three airbag pressures, meshed by Gmsh (README)
+  wall
+      examples/reinforced-wall/reinforced-wall.toml (README, docs/soil.md)
+"""
+
+import argparse
+import csv
+import json
+import math
+import re
+import shutil
+import statistics
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+DOCUMENTS = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
+INLINE = re.compile(r"<!-- number: ([\w.-]+) -->(.*?)<!-- /number -->")
+BLOCK = re.compile(r"<!-- numbers: ([\w.-]+) -->\n(.*?)<!-- /numbers -->", re.S)
+
+CLAY = ROOT / "examples/paper-pullout-clay.toml"
+RULES = ["segment", "nearest-node", "mortar"]
+
+
+def run(geoslip, model, out, *args):
+    if out.exists():
+        shutil.rmtree(out)
+    done = subprocess.run([str(geoslip), "run", str(model), "--out", str(out), "-q", *args],
+                          capture_output=True, text=True)
+    if done.returncode != 0:
+        sys.exit(f"doc-numbers: {model.name} failed (exit {done.returncode}):\n{done.stderr}")
+    return out
+
+
+def history(out):
+    """The pull-out stage's |reaction| at the head, by step (1 step = 1 mm in the clay model)."""
+    forces = {}
+    with open(out / "history.csv", newline="") as f:
+        for row in csv.DictReader(f):
+            if row["stage"] == "pull-out":
+                forces[int(row["step"])] = abs(float(row["reaction [kN/m]"]))
+    return forces
+
+
+def event_step(summary, text):
+    """The pull-out step of the first event containing `text`, or None."""
+    for event in summary["events"]:
+        if text in event and 'stage "pull-out"' in event:
+            return int(re.search(r"step (\d+)", event).group(1))
+    return None
+
+
+def sigma_n(out, step):
+    """σn on the grid's upper face at a pull-out step, over the points in contact whose tributary
+    length is a whole spacing h, within 10 % (not the head's or the tail's half, nor a point clipped
+    at the front):
+    mean, population standard deviation, min and max."""
+    path = out / "stage-2-pull-out" / f"step-{step:03d}" / "interface.csv"
+    with open(path, newline="") as f:
+        rows = [r for r in csv.DictReader(f) if r["interface"] == "grid" and r["face"] == "upper"]
+    # (the spacing h, stretched with the grid: the median of the points' lengths)
+    h = statistics.median(float(r["tributary [m]"]) for r in rows)
+    values = [float(r["sigma_n [kPa]"]) for r in rows
+              if r["state"] == "active" and 0.9 * h < float(r["tributary [m]"]) < 1.1 * h]
+    return statistics.fmean(values), statistics.pstdev(values), min(values), max(values)
+
+
+def percent(a, b):
+    d = 100 * (a - b) / b
+    text = f"{d:+.2f} %".replace("-", "−")
+    return "0.00 %" if text in ("+0.00 %", "−0.00 %") else text
+
+
+def clay_numbers(geoslip, work):
+    numbers = {}
+    runs = {}
+    for rule in RULES:
+        model = work / f"clay-{rule}.toml"
+        text = CLAY.read_text()
+        text, n = re.subn(r'(?m)^reassociation = "segment"', f'reassociation = "{rule}"', text)
+        if n != 1:
+            sys.exit("doc-numbers: examples/paper-pullout-clay.toml no longer sets reassociation = \"segment\"")
+        model.write_text(text)
+        out = run(geoslip, model, work / f"clay-{rule}", "--csv", "--no-restart")
+        summary = json.loads((out / "summary.json").read_text())
+        forces = history(out)
+        peak_step = max(forces, key=forces.get)
+        runs[rule] = (out, summary, forces)
+        key = f"clay-{rule}"
+        numbers[f"{key}.slip-starts"] = f"{event_step(summary, 'slip starts')} mm"
+        slides = event_step(summary, "every interface point in contact slides")
+        numbers[f"{key}.all-slide"] = f"{slides} mm" if slides else "no step"
+        numbers[f"{key}.peak-at"] = f"{peak_step} mm"
+        numbers[f"{key}.peak"] = f"{forces[peak_step]:.2f} kN/m"
+        numbers[f"{key}.reassociations"] = re.search(r"(\d+) in all", (out / "report.md").read_text()).group(1)
+        numbers[f"{key}.iterations"] = str(sum(s["iterations"] for s in summary["steps"]))
+        numbers[f"{key}.analyses"] = str(summary["solver_stats"]["analyses"])
+        numbers[f"{key}.set-aside"] = str(sum(
+            any("set aside" in c for c in s["state_changes"]) for s in summary["steps"]))
+        numbers[f"{key}.sd-60"] = f"{sigma_n(out, 60)[1]:.1f} kPa"
+        numbers[f"{key}.max-60"] = f"{sigma_n(out, 60)[3]:.0f} kPa"
+    (_, _, seg), (_, _, nn), (_, _, mo) = (runs[r] for r in RULES)
+    rows = ["| head displacement [mm] | segment [kN/m] | nearest-node [kN/m] | difference | mortar [kN/m] | difference |",
+            "|---:|---:|---:|---:|---:|---:|"]
+    for mm in range(5, 61, 5):
+        rows.append(f"| {mm} | {seg[mm]:.3f} | {nn[mm]:.3f} | {percent(nn[mm], seg[mm])} | {mo[mm]:.3f} | "
+                    f"{percent(mo[mm], seg[mm])} |")
+    numbers["clay-forces"] = "\n".join(rows) + "\n"
+    rows = ["| step (head displacement) | segment [kPa] | nearest-node [kPa] | mortar [kPa] |", "|---|---|---|---|"]
+    for step in (20, 40, 60):
+        cells = [" / ".join([f"{m:.1f}", f"{s:.1f}", f"{lo:.1f}", f"{hi:.1f}"])
+                 for (m, s, lo, hi) in (sigma_n(runs[r][0], step) for r in RULES)]
+        rows.append(f"| {step} ({step} mm) | " + " | ".join(cells) + " |")
+    numbers["clay-sigma-n"] = "\n".join(rows) + "\n"
+    return numbers
+
+
+def lab_numbers(geoslip, work):
+    out = run(geoslip, ROOT / "examples/lab-pullout/lab-pullout.toml", work / "lab-series")
+    series = json.loads((out / "series.json").read_text())
+    length = series["pullout"]["embedded_length"]
+    below = []
+    for case in series["cases"]:
+        q = case["value"]
+        peak = next(p["reaction"] for p in case["peaks"] if p["label"] == "grid.head")
+        ideal = 2 * (q + 18.0 * 0.3) * math.tan(math.radians(30)) * length
+        below.append(100 * (1 - abs(peak) / ideal))
+    return {
+        "lab-series.friction-angle": f"{series['envelope']['apparent_friction_angle_deg']:.1f}°",
+        "lab-series.below": f"{min(below):.1f}–{max(below):.1f} %",
+    }
+
+
+def wall_numbers(geoslip, work):
+    out = run(geoslip, ROOT / "examples/reinforced-wall/reinforced-wall.toml", work / "wall",
+              "--csv", "--keep", "events", "--no-restart")
+    stages = sorted((p for p in out.iterdir() if p.is_dir() and p.name.startswith("stage-")),
+                    key=lambda p: int(p.name.split("-")[1]))
+    steps = sorted(p for p in stages[-1].iterdir() if p.name.startswith("step-"))
+    with open(steps[-1] / "bar_forces.csv", newline="") as f:
+        bars = list(csv.DictReader(f))
+    force, y = "T [kN/m]", "y_mid [m]"
+    layers = {}
+    for b in bars:
+        level = round(float(b[y]), 6)
+        layers[level] = max(layers.get(level, -math.inf), float(b[force]))
+    fe = sum(layers.values())
+    ka = math.tan(math.pi / 4 - math.radians(34) / 2) ** 2
+    simplified = sum(ka * (18.0 * (6.0 - (0.6 * k - 0.3)) + 10.0) * 0.6 for k in range(1, 11))
+    return {
+        "wall.sum-t-max": f"{fe:.1f} kN/m",
+        "wall.simplified": f"{simplified:.1f}",
+        "wall.fraction": f"{100 * fe / simplified:.0f} %",
+    }
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--geoslip")
+    parser.add_argument("--write", action="store_true")
+    parser.add_argument("--keep")
+    parser.add_argument("--list", action="store_true", help="print every ID and its number")
+    args = parser.parse_args()
+    geoslip = Path(args.geoslip) if args.geoslip else next(
+        (p for p in [ROOT / "target/release/geoslip", ROOT / "target/debug/geoslip"] if p.exists()), None)
+    if geoslip is None or not geoslip.exists():
+        sys.exit("doc-numbers: no geoslip binary: build one (cargo build --release) or pass --geoslip")
+
+    with tempfile.TemporaryDirectory() as tmp:
+        work = Path(args.keep) if args.keep else Path(tmp)
+        work.mkdir(parents=True, exist_ok=True)
+        numbers = {}
+        for produce in (clay_numbers, lab_numbers, wall_numbers):
+            numbers.update(produce(geoslip, work))
+
+    if args.list:
+        for key, value in numbers.items():
+            print(f"{key}: {value}" if "\n" not in value else f"{key}:\n{value}")
+    wrong, unknown, marked = [], [], 0
+    for doc in DOCUMENTS:
+        text = doc.read_text()
+        new = text
+
+        def inline(m):
+            nonlocal marked
+            marked += 1
+            want = numbers.get(m.group(1))
+            if want is None:
+                unknown.append(f"{doc.relative_to(ROOT)}: number {m.group(1)}")
+                return m.group(0)
+            if m.group(2) != want:
+                wrong.append(f"{doc.relative_to(ROOT)}: {m.group(1)}: the document says {m.group(2)!r}, the run {want!r}")
+            return f"<!-- number: {m.group(1)} -->{want}<!-- /number -->"
+
+        def block(m):
+            nonlocal marked
+            marked += 1
+            want = numbers.get(m.group(1))
+            if want is None:
+                unknown.append(f"{doc.relative_to(ROOT)}: numbers {m.group(1)}")
+                return m.group(0)
+            if m.group(2) != want:
+                wrong.append(f"{doc.relative_to(ROOT)}: {m.group(1)}: the document's block differs from the run's:\n"
+                             f"--- document\n{m.group(2)}--- run\n{want}")
+            return f"<!-- numbers: {m.group(1)} -->\n{want}<!-- /numbers -->"
+
+        new = INLINE.sub(inline, new)
+        new = BLOCK.sub(block, new)
+        if args.write and new != text:
+            doc.write_text(new)
+    for line in unknown:
+        print(f"doc-numbers: no run produces {line}")
+    if args.write:
+        print(f"doc-numbers: {marked} marked numbers and blocks, {len(wrong)} rewritten")
+        return 1 if unknown else 0
+    for line in wrong:
+        print(f"doc-numbers: {line}")
+    print(f"doc-numbers: {marked} marked numbers and blocks, {len(wrong)} differ from the runs")
+    return 1 if wrong or unknown else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
