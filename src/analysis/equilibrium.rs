@@ -24,7 +24,7 @@ use crate::assembly::{soil_and_bar_force_and_floor, ElementMatrices, SoilView, S
 use crate::dofs::DofMap;
 use crate::element::soil_state::{SoilTrial, Tangent};
 use crate::interface::active_set::{describe, Bands, Flips};
-use crate::interface::reassociate::{clip_tributaries, tributary_rates, PointRef};
+use crate::interface::reassociate::{clip_tributaries, tributary_rates};
 use crate::interface::rows::InterfaceRows;
 use crate::interface::NormalState;
 use crate::linsol::Failure;
@@ -178,13 +178,10 @@ pub fn equilibrium(cx: &mut Context, dofs: &DofMap, state: &mut State) -> Result
     })
 }
 
-/// Clip the tributary lengths to the embedded part (large slip). Returns the points that no
-/// length faces the master face at any more.
-fn clip(cx: &Context, state: &mut State) -> Vec<PointRef> {
+/// Clip the tributary lengths to the embedded part (large slip).
+fn clip(cx: &Context, state: &mut State) {
     if cx.options.analysis.reassociation != ReassociationRule::None {
-        clip_tributaries(&cx.model.mesh, &mut state.interfaces, &state.u)
-    } else {
-        Vec::new()
+        clip_tributaries(&cx.model.mesh, &mut state.interfaces, &state.u);
     }
 }
 
@@ -197,11 +194,10 @@ fn linearise(
     iteration: usize,
 ) -> Linearisation {
     let t = Instant::now();
-    let left = clip(cx, state);
-    let active_set = cx.active_set(dofs, &state.placed);
-    let gone = active_set.leave_face(&mut state.interfaces, &mut state.lambda, &left);
-    let held = active_set.hold_free_reinforcement_nodes(&mut state.interfaces, &mut state.lambda);
-    it.state_changes.extend(gone.into_iter().chain(held));
+    clip(cx, state);
+    let held =
+        cx.active_set(dofs, &state.placed).hold_free_reinforcement_nodes(&mut state.interfaces, &mut state.lambda);
+    it.state_changes.extend(held);
     let mut rows = InterfaceRows::new(&cx.model.mesh, &state.interfaces, &dofs.multipliers);
     let springs = springs::evaluate(cx.model, state, &rows);
     rows.dilate(springs.iter().map(|r| r.dilation));
@@ -582,8 +578,7 @@ fn check(
     interface_soil: Option<SoilTrial>,
 ) -> Result<Option<IncrementReport>, IncrementError> {
     let t = Instant::now();
-    let left = clip(cx, state);
-    let mut changes = cx.active_set(dofs, &state.placed).leave_face(&mut state.interfaces, &mut state.lambda, &left);
+    clip(cx, state);
     let mut rows = InterfaceRows::new(&cx.model.mesh, &state.interfaces, &dofs.multipliers);
     let springs = springs::evaluate(cx.model, state, &rows);
     rows.dilate(springs.iter().map(|r| r.dilation));
@@ -595,13 +590,13 @@ fn check(
         .max(1e-6 * cx.elements.typical_stiffness() * characteristic);
     let gaps = rows.gaps(&state.u);
     let bands = Bands::new(&state.lambda, force_floor, characteristic);
-    changes.extend(cx.active_set(dofs, &state.placed).update(
+    let mut changes = cx.active_set(dofs, &state.placed).update(
         &mut state.interfaces,
         &mut state.lambda,
         &gaps,
         bands,
         &mut it.flips,
-    ));
+    );
     let elements = &cx.elements;
     changes.extend(state.bars.rupture(&elements.bars, |i| &elements.blocks[i].0, &state.u));
     cx.system.stats.interface_seconds += t.elapsed().as_secs_f64();

@@ -152,6 +152,12 @@ impl StepResults {
                         _ => {
                             spring += 1;
                             match springs.get(spring - 1) {
+                                // a point with no length left facing its master face (it slid off
+                                // its end within the step) holds its node there by the point force
+                                // λ alone: no stress is spread over it, and 0 is written
+                                Some(r) if point.in_contact() && point.tributary == 0.0 => {
+                                    (0.0, r.sliding, 0.0, 0.0, r.dilation)
+                                }
                                 Some(r) if point.in_contact() => (r.tau, r.sliding, r.sigma_n, r.bearing, r.dilation),
                                 Some(r) => (r.tau, r.sliding, lambda_stress, r.bearing, r.dilation),
                                 None => (0.0, false, lambda_stress, 0.0, 0.0),

@@ -10,7 +10,6 @@
 //! - As stages place and remove soil and reinforcement, a point whose node or master segment is not
 //!   in place has no contact; one that a stage puts in place starts in contact.
 
-use super::reassociate::PointRef;
 use super::rows::InterfaceRows;
 use super::{multipliers, ContactFace, ContactPoint, Interface, MultiplierRef, NormalState};
 use crate::mesh::{Mesh, NodeIndex};
@@ -160,27 +159,6 @@ impl ActiveSet<'_> {
             }
         }
         changes.extend(self.hold_free_reinforcement_nodes(interfaces, lambda));
-        changes
-    }
-
-    /// Release the points that slid off the end of their master face within the iteration
-    /// ([`crate::interface::reassociate::clip_tributaries`] finds them): their multipliers go to
-    /// zero and they are outside until re-association finds them over the face again. Returns what
-    /// changed.
-    pub fn leave_face(&self, interfaces: &mut [Interface], lambda: &mut [f64], left: &[PointRef]) -> Vec<String> {
-        let mut changes = Vec::new();
-        for (k, m) in self.multipliers.iter().enumerate() {
-            let here = PointRef { interface: m.interface, face: m.face, point: m.point };
-            if !left.contains(&here) {
-                continue;
-            }
-            lambda[k] = 0.0;
-            if m.tangential {
-                continue;
-            }
-            interfaces[m.interface].faces[m.face].points[m.point].normal_state = NormalState::Outside;
-            changes.push(format!("{} left the end of its master face", self.name(interfaces, k)));
-        }
         changes
     }
 

@@ -284,18 +284,12 @@ pub fn dual_mortar_weights(master_arcs: &[f64], slave_arcs: &[f64], k: usize) ->
 /// Clip every tributary length to the part of the slave line that now faces the master face, at the
 /// current displacements (called in every iteration: the embedded length changes as the slave
 /// slides, and the resistance must follow it within the increment, not one increment late).
-///
-/// Returns the points in contact that no length of the slave line faces the master face at any
-/// more: beyond the face's end, with nothing left to carry a contact stress over. The iteration
-/// releases them ([`crate::interface::active_set::ActiveSet::leave_face`]); re-association at the
-/// end of the increment would, but an iterate must not converge with a contact force on no length.
-pub fn clip_tributaries(mesh: &Mesh, interfaces: &mut [Interface], u: &[f64]) -> Vec<PointRef> {
-    let mut left = Vec::new();
-    for (i, interface) in interfaces.iter_mut().enumerate() {
+pub fn clip_tributaries(mesh: &Mesh, interfaces: &mut [Interface], u: &[f64]) {
+    for interface in interfaces.iter_mut() {
         if interface.is_tie() {
             continue;
         }
-        for (f, face) in interface.faces.iter_mut().enumerate() {
+        for face in interface.faces.iter_mut() {
             let (starts, total) = arc_starts(mesh, u, &face.master);
             let arcs: Vec<f64> = face
                 .points
@@ -306,26 +300,8 @@ pub fn clip_tributaries(mesh: &Mesh, interfaces: &mut [Interface], u: &[f64]) ->
                 })
                 .collect();
             clip_face_tributaries(mesh, face, u, &arcs, total);
-            if face.points.len() < 2 || face.embedded.is_some() {
-                continue;
-            }
-            for (k, p) in face.points.iter().enumerate() {
-                let beyond = arcs[k] < -1e-9 * total || arcs[k] > total * (1.0 + 1e-9);
-                if beyond && p.tributary == 0.0 && p.in_contact() {
-                    left.push(PointRef { interface: i, face: f, point: k });
-                }
-            }
         }
     }
-    left
-}
-
-/// One slave point: its interface, face and place on the face.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct PointRef {
-    pub interface: usize,
-    pub face: usize,
-    pub point: usize,
 }
 
 /// Each point's (DOF, ∂ℓ/∂u) on one face.
