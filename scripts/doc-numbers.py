@@ -212,29 +212,25 @@ def main():
         text = doc.read_text()
         new = text
 
-        def inline(m):
-            nonlocal marked
-            marked += 1
-            want = numbers.get(m.group(1))
-            if want is None:
-                unknown.append(f"{doc.relative_to(ROOT)}: number {m.group(1)}")
-                return m.group(0)
-            if m.group(2) != want:
-                wrong.append(f"{doc.relative_to(ROOT)}: {m.group(1)}: the document says {m.group(2)!r}, the run {want!r}")
-            return f"<!-- number: {m.group(1)} -->{want}<!-- /number -->"
+        def marked_text(kind, opening, closing, describe):
+            """The replacement of one marked place: the run's text between the document's marks."""
+            def replace(m):
+                nonlocal marked
+                marked += 1
+                want = numbers.get(m.group(1))
+                if want is None:
+                    unknown.append(f"{doc.relative_to(ROOT)}: {kind} {m.group(1)}")
+                    return m.group(0)
+                if m.group(2) != want:
+                    wrong.append(f"{doc.relative_to(ROOT)}: {m.group(1)}: {describe(m.group(2), want)}")
+                return f"{opening.format(m.group(1))}{want}{closing}"
+            return replace
 
-        def block(m):
-            nonlocal marked
-            marked += 1
-            want = numbers.get(m.group(1))
-            if want is None:
-                unknown.append(f"{doc.relative_to(ROOT)}: numbers {m.group(1)}")
-                return m.group(0)
-            if m.group(2) != want:
-                wrong.append(f"{doc.relative_to(ROOT)}: {m.group(1)}: the document's block differs from the run's:\n"
-                             f"--- document\n{m.group(2)}--- run\n{want}")
-            return f"<!-- numbers: {m.group(1)} -->\n{want}<!-- /numbers -->"
-
+        inline = marked_text("number", "<!-- number: {} -->", "<!-- /number -->",
+                             lambda doc_text, run: f"the document says {doc_text!r}, the run {run!r}")
+        block = marked_text("numbers", "<!-- numbers: {} -->\n", "<!-- /numbers -->",
+                            lambda doc_text, run: "the document's block differs from the run's:\n"
+                                                  f"--- document\n{doc_text}--- run\n{run}")
         new = INLINE.sub(inline, new)
         new = BLOCK.sub(block, new)
         if args.write and new != text:
