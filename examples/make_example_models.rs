@@ -303,23 +303,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     std::fs::write(dir.join("pullout-box.toml"), format!("{PULLOUT_HEADER}\n{}", readable(&model)?))?;
     println!("wrote {}", dir.join("pullout-box.toml").display());
 
-    let clay = PullOutBox {
-        length: 1.3,
-        height: 0.6,
-        embedded: 1.0,
-        nx: 26,
-        ny_half: 6,
-        kind: SolidKind::Quad4,
-        youngs_modulus: 8000.0,
-        poissons_ratio: 0.3,
-        unit_weight: 18.0,
-        axial_stiffness: 260.0,
-        law: ShearLawSpec::Coulomb { shear_stiffness: 540.0, cohesion: 2.0, friction_angle: 12.6 },
-        surcharge: 20.0,
-        pull: 0.06,
-        steps: 60,
-        layers: 1,
-    };
+    let clay = PullOutBox::paper_clay();
     let mut model = clay.model();
     model.title = "pull-out test in clay (Yi 1996, Figs. 7-10)".into();
     std::fs::write(dir.join("paper-pullout-clay.toml"), format!("{CLAY_HEADER}\n{}", readable(&model)?))?;

@@ -16,9 +16,12 @@ puts the computed text in place; without, it fails (exit 1) where a document and
 and where a document marks an ID that no run produces. The numbers are formatted to the digits
 the documents state, so "disagree" means beyond those digits.
 
-    python3 scripts/doc-numbers.py [--geoslip PATH] [--write] [--keep DIR] [--list]
+    python3 scripts/doc-numbers.py [--geoslip PATH] [--measured DIR] [--write] [--keep DIR] [--list]
 
   --geoslip PATH  the geoslip binary (default: target/release/geoslip, then target/debug/geoslip)
+  --measured DIR  also the numbers the tests recorded: a test quoting its own run writes each
+                  number to DIR/ID when GEOSLIP_DOC_NUMBERS=DIR (tests/common/mod.rs, doc_number);
+                  scripts/test-all.sh runs the tests so, then this script with --measured
   --write         rewrite the marked text in README.md and docs/*.md with the runs' numbers
   --keep DIR      run into DIR (kept) instead of a temporary folder
   --list          print every number the runs give, by ID
@@ -30,6 +33,8 @@ The runs (about a minute with a release build):
       examples/lab-pullout/lab-pullout.toml: three airbag pressures, meshed by Gmsh (README)
   wall
       examples/reinforced-wall/reinforced-wall.toml (README, docs/soil.md)
+  results-readback
+      the segment run's CSV files give what docs/results.md's h5py / meshio example prints
 """
 
 import argparse
@@ -146,6 +151,28 @@ def clay_numbers(geoslip, work):
     return numbers
 
 
+def readback_numbers(clay_segment):
+    """What docs/results.md's Python example prints after the clay run, from the same run's CSV
+    files: the steps written, the largest |ux| of the last step, the peak pull-out force, and the
+    first four points of the grid's upper face in the last step."""
+    steps = sorted(step for stage in clay_segment.glob("stage-*") for step in stage.glob("step-*"))
+    with open(steps[-1] / "displacements.csv", newline="") as f:
+        ux = max(abs(float(r["ux [m]"])) for r in csv.DictReader(f))
+    peak = max(history(clay_segment).values())
+    with open(steps[-1] / "interface.csv", newline="") as f:
+        upper = [r for r in csv.DictReader(f) if r["interface"] == "grid" and r["face"] == "upper"]
+    points = ", ".join(f"({round(float(r['x [m]']), 3)}, {round(float(r['tau [kPa]']), 2)})" for r in upper[:4])
+    return {"results-readback": ("```text\n"
+                                 f"{len(steps)} steps; at step {len(steps)} the largest |ux| is {ux:.4f} m\n"
+                                 f"peak pull-out force {peak:.2f} kN/m\n"
+                                 f"tau along the grid's upper face: [{points}] ...\n```\n")}
+
+
+def measured_numbers(folder):
+    """The numbers the tests recorded (one file an ID)."""
+    return {path.name: path.read_text() for path in sorted(Path(folder).iterdir()) if path.is_file()}
+
+
 def lab_numbers(geoslip, work):
     out = run(geoslip, ROOT / "examples/lab-pullout/lab-pullout.toml", work / "lab-series")
     series = json.loads((out / "series.json").read_text())
@@ -188,6 +215,7 @@ def wall_numbers(geoslip, work):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--geoslip")
+    parser.add_argument("--measured")
     parser.add_argument("--write", action="store_true")
     parser.add_argument("--keep")
     parser.add_argument("--list", action="store_true", help="print every ID and its number")
@@ -203,6 +231,9 @@ def main():
         numbers = {}
         for produce in (clay_numbers, lab_numbers, wall_numbers):
             numbers.update(produce(geoslip, work))
+        numbers.update(readback_numbers(work / "clay-segment"))
+    if args.measured:
+        numbers.update(measured_numbers(args.measured))
 
     if args.list:
         for key, value in numbers.items():
@@ -237,6 +268,9 @@ def main():
             doc.write_text(new)
     for line in unknown:
         print(f"doc-numbers: no run produces {line}")
+    if unknown and not args.measured:
+        print("doc-numbers: numbers quoted from a test's run need --measured DIR, after the tests ran with "
+              "GEOSLIP_DOC_NUMBERS=DIR")
     if args.write:
         print(f"doc-numbers: {marked} marked numbers and blocks, {len(wrong)} rewritten")
         return 1 if unknown else 0

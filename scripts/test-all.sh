@@ -65,10 +65,12 @@ if [ "$native_expected" = 1 ]; then
   done
 fi
 echo "== full build: tests${features[*]:+ (${features[*]})}"
-cargo test --workspace --locked "${features[@]}"
+# each test that a document quotes records its numbers here (tests/common/mod.rs, doc_number)
+rm -rf target/doc-numbers
+GEOSLIP_DOC_NUMBERS="$PWD/target/doc-numbers" cargo test --workspace --locked "${features[@]}"
 
 echo "== the numbers the README and docs quote from runs, against the runs"
-python3 scripts/doc-numbers.py --geoslip target/debug/geoslip
+python3 scripts/doc-numbers.py --geoslip target/debug/geoslip --measured target/doc-numbers
 
 echo "== Python package: built by maturin into target/python-env, its tests (pytest) and the parameter study"
 # maturin, pytest, NumPy and matplotlib come from the package registry (PyPI); the module shares

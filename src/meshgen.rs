@@ -229,6 +229,30 @@ impl Default for PullOutBox {
 }
 
 impl PullOutBox {
+    /// The pull-out test in clay of Yi (1996), Figs. 7–10 (`examples/paper-pullout-clay.toml`): a
+    /// grid embedded 1.0 m in a 1.3 m × 0.6 m clay box (E = 8 MPa, ν = 0.3, γ = 18 kN/m³) of 26 × 12
+    /// quad4, 20 kPa surcharge, EA = 260 kN/m, Coulomb faces (Ks = 540 kN/m³, c = 2 kPa,
+    /// φ = 12.6°), pulled 60 mm in 60 steps.
+    pub fn paper_clay() -> Self {
+        PullOutBox {
+            length: 1.3,
+            height: 0.6,
+            embedded: 1.0,
+            nx: 26,
+            ny_half: 6,
+            kind: SolidKind::Quad4,
+            youngs_modulus: 8000.0,
+            poissons_ratio: 0.3,
+            unit_weight: 18.0,
+            axial_stiffness: 260.0,
+            law: ShearLawSpec::Coulomb { shear_stiffness: 540.0, cohesion: 2.0, friction_angle: 12.6 },
+            surcharge: 20.0,
+            pull: 0.06,
+            steps: 60,
+            layers: 1,
+        }
+    }
+
     /// The model file. The reinforcement ends at the last lattice column within `embedded`.
     pub fn model(&self) -> ModelFile {
         let block =

@@ -34,7 +34,8 @@ fn the_free_length_adds_nothing_and_the_embedded_length_is_exact_at_the_face() {
     let c = common::run(&model, Backend::available()[0]);
     let forces = common::head_forces(&model, &c, "grid.head");
     let tau_max = 20.0 * 30f64.to_radians().tan();
-    common::assert_sliding_plateau(&forces, 8, 0.001, 1.6, tau_max, 5e-3);
+    // measured 2.2e-5 above: the grid's stretch (EA = 10⁶ kN/m) between the head and the face
+    common::assert_sliding_plateau(&forces, 8, 0.001, 1.6, tau_max, 1e-4);
     // the free length's points touch nothing
     let (_, last) = c.steps.last().unwrap();
     for p in last.interface_points.iter().filter(|p| p.face != "slit" && p.x[0] < -1e-9) {
@@ -60,6 +61,9 @@ fn pulled_through_the_face_it_loses_contact_point_by_point() {
         // grid's stretch between the grip and the face (u there is the head's less F·0.15/EA)
         let tolerance = 1e-4 * 2.0 * tau_max * 0.3;
         assert!(force <= bound + tolerance, "step {}: force {force} kN/m above n_f·τmax·(L − u) = {bound}", k + 1);
+        // and from below: where a point between soil nodes opens, the force falls short by at
+        // most 17 % (measured at u = 0.06 m); between such steps it is the closed form again
+        assert!(force >= 0.8 * bound - tolerance, "step {}: force {force} kN/m below 0.8 of {bound}", k + 1);
         if u <= 0.05 {
             assert!((force - bound).abs() <= tolerance, "step {}: force {force} kN/m against {bound}", k + 1);
         }

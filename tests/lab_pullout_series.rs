@@ -53,14 +53,17 @@ fn three_pressures_from_the_geo_give_the_input_friction_angle() {
         let p = peak["reaction"].as_f64().unwrap();
         let ideal = 2.0 * (q + 18.0 * 0.3) * tan_phi * length;
         let ratio = p / ideal;
+        // measured 1.4–2.1 % below (README): 4 % allowed, and never above
         assert!(
-            (0.92..=1.0).contains(&ratio),
+            (0.96..=1.0).contains(&ratio),
             "q = {q}: peak {p:.3} kN/m is {ratio:.4} of 2(q + γh)tanφ·L = {ideal:.3}"
         );
     }
     let envelope = &series["envelope"];
     let phi = envelope["apparent_friction_angle_deg"].as_f64().unwrap();
-    assert!((phi - 30.0).abs() < 1.5, "apparent friction angle {phi:.2}°, input 30°");
+    // measured 29.4°: each peak falls short by about the same fraction, so the fitted angle sits a
+    // little below the input; 1.2° allowed below, none above
+    assert!((28.8..=30.0).contains(&phi), "apparent friction angle {phi:.2}°, input 30°");
     // the intercept is the overburden's share: c_a ≈ γh·tan φ = 3.1 kPa (c = 0)
     let adhesion = envelope["apparent_adhesion"].as_f64().unwrap();
     assert!(adhesion > 0.0 && adhesion < 18.0 * 0.3 * tan_phi * 1.1, "apparent adhesion {adhesion:.3} kPa");

@@ -131,6 +131,7 @@ fn the_stack_slides_on_its_weakest_interface_at_peak_then_residual_strength() {
     let residual = normal * 10f64.to_radians().tan();
     let largest = shear.iter().fold(0.0f64, |m, &f| m.max(f));
     let last = *shear.last().unwrap();
+    common::doc_number("liner-stack.shear", format!("{largest:.2} and {last:.2} kN/m"));
     assert!(common::relative_error(largest, peak) < 0.01, "peak shear {largest:.3} kN/m against N·tan 16° = {peak:.3}");
     assert!(
         common::relative_error(last, residual) < 0.01,
@@ -154,4 +155,101 @@ fn the_stack_slides_on_its_weakest_interface_at_peak_then_residual_strength() {
         end.interface_points.iter().filter(|p| p.face == "geotextile on geomembrane").all(|p| p.post_peak),
         "every point of the weakest interface is past its peak"
     );
+}
+
+/// The stack of `stack_in_shear` with a dilatant interface, sheared 20 mm in 40 steps of 0.5 mm by a
+/// platen that is pushed but free to rise (the surcharge stays q).
+fn dilatant_stack(upper_law: ShearLawSpec) -> geoslip::model::Model {
+    let mut file = stack_in_shear();
+    file.interfaces[0].law = upper_law;
+    file.interfaces[0].dilation = Some(DilationSpec { angle: PSI, max_dilation: 0.01 });
+    file.stages[1].load_factors = (1..=40).map(|k| k as f64 / 40.0).collect();
+    file.stages[1].prescribed = vec![common::prescribed("cover", Some(PUSH), None)];
+    common::model(&file, "dilatant-liner-stack.toml")
+}
+
+const PSI: f64 = 10.0;
+
+/// Each shear step: (the platen's push, the rise of the cover's top, every point's (face, dilation, sliding)).
+fn rise_by_step(c: &geoslip::analysis::Collect) -> Vec<(f64, f64, Vec<(String, f64, bool)>)> {
+    c.steps
+        .iter()
+        .filter(|(r, _)| r.stage == "shear")
+        .map(|(r, s)| {
+            let top: Vec<f64> =
+                s.displacements.iter().filter(|d| (d.1[1] - 0.2).abs() < 1e-12).map(|d| d.2[1]).collect();
+            assert_eq!(top.len(), 21, "the cover's top row");
+            let rise = top.iter().sum::<f64>() / top.len() as f64;
+            let points = s.interface_points.iter().map(|p| (p.face.clone(), p.dilation, p.sliding)).collect();
+            (PUSH * r.load_factor, rise, points)
+        })
+        .collect()
+}
+
+#[test]
+fn a_stack_whose_face_against_the_soil_slides_dilates_it_by_tan_psi_of_the_slip() {
+    // docs/verification.md §9: once the cover slides on the geotextile with σn = q held, every further
+    // push is plastic slip of that face, so the free platen rises by tan ψ per unit push; the faces
+    // between the sheets and against the clay do not slide and do not open
+    // 8°, below the geotextile on geomembrane's residual 10°: that face never takes the slip over
+    let upper = ShearLawSpec::Coulomb { shear_stiffness: 2.0e4, cohesion: 0.0, friction_angle: 8.0 };
+    let model = dilatant_stack(upper);
+    let c = common::run(&model, Backend::Auto);
+    let steps = rise_by_step(&c);
+    let tan_psi = PSI.to_radians().tan();
+    let mut checked = 0;
+    for pair in steps.windows(2) {
+        let ((u0, rise0, points0), (u1, rise1, points1)) = (&pair[0], &pair[1]);
+        for (face, dilation, _) in points1.iter().filter(|p| p.0 != "upper") {
+            assert_eq!(*dilation, 0.0, "u = {u1}: face {face} opens by {dilation}");
+        }
+        let sliding = |points: &[(String, f64, bool)]| points.iter().filter(|p| p.0 == "upper").all(|p| p.2);
+        if sliding(points0) && sliding(points1) {
+            let expected = tan_psi * (u1 - u0);
+            // measured 4e-4 to 7e-4 below, growing with u: the cover's contact with the sheet shortens
+            // by u, so σn, τ and the elastic part of the slip grow by about u/L a step; the points
+            // measured up to 5e-3 below (those near the ends, where the shortening is)
+            assert!(
+                (rise1 - rise0 - expected).abs() < 2e-3 * expected,
+                "u = {u1}: the cover rose {:.4e} m in the step, tan ψ·Δu = {expected:.4e}",
+                rise1 - rise0
+            );
+            let upper = |points: &[(String, f64, bool)]| -> Vec<f64> {
+                points.iter().filter(|p| p.0 == "upper").map(|p| p.1).collect()
+            };
+            for (d0, d1) in upper(points0).iter().zip(upper(points1)) {
+                assert!((d1 - d0 - expected).abs() < 1.5e-2 * expected, "u = {u1}: a point opens {d0} → {d1}");
+            }
+            checked += 1;
+        }
+    }
+    assert!(checked >= 30, "the face slides in {checked} of 40 steps");
+}
+
+#[test]
+fn a_stack_that_slides_between_its_sheets_does_not_open() {
+    // docs/model-format.md: in a stack only the faces against the soil dilate; here the weakest
+    // interface is the geotextile on the geomembrane, the faces against the soil stay below their
+    // strength, so no face opens and the free platen stays where the surcharge put it
+    let model = dilatant_stack(ShearLawSpec::Coulomb { shear_stiffness: 2.0e4, cohesion: 0.0, friction_angle: 33.0 });
+    let c = common::run(&model, Backend::Auto);
+    let steps = rise_by_step(&c);
+    let before = c.steps.iter().rev().find(|(r, _)| r.stage == "normal stress").unwrap();
+    let top: Vec<f64> =
+        before.1.displacements.iter().filter(|d| (d.1[1] - 0.2).abs() < 1e-12).map(|d| d.2[1]).collect();
+    let settled = top.iter().sum::<f64>() / top.len() as f64;
+    let (_, _, last_points) = steps.last().unwrap();
+    assert!(
+        last_points.iter().any(|p| p.0 == "geotextile on geomembrane" && p.2),
+        "the geotextile slides on the geomembrane"
+    );
+    // had the sliding face opened, the cover would rise tan ψ·u (3.5 mm at the end); the shear's
+    // couple only tilts it about its middle
+    let open = PSI.to_radians().tan() * PUSH;
+    for (u, rise, points) in &steps {
+        assert!((rise - settled).abs() < 0.01 * open, "u = {u}: the cover rose {:.3e} m", rise - settled);
+        for (face, dilation, _) in points {
+            assert_eq!(*dilation, 0.0, "u = {u}: face {face} opens by {dilation}");
+        }
+    }
 }

@@ -84,8 +84,10 @@ fn translating_smooth_wall_reaches_the_rankine_active_thrust() {
     eprintln!("thrust along the wall movement: {:?}", c.steps.iter().map(|(_, r)| thrust(r) / pa).collect::<Vec<_>>());
     // the K0 stage is in equilibrium as it stands: the thrust is K0·γH²/2 exactly
     assert!(common::relative_error(at_rest, p0) < 1e-6, "at rest {at_rest:.4} against K0·γH²/2 = {p0:.4}");
+    common::doc_number("rankine.active", format!("**{}**", common::signed_percent(active, pa, 1)));
+    // measured +0.1 % (docs/soil.md): the mesh's slight stiffening; 0.5 % allowed
     assert!(
-        common::relative_error(active, pa) < 0.03,
+        common::relative_error(active, pa) < 0.005,
         "active thrust {active:.3} kN/m against Rankine K_a·γH²/2 = {pa:.3} kN/m ({:+.2} %)",
         100.0 * (active / pa - 1.0)
     );

@@ -94,6 +94,10 @@ fn rigid_strip_footing_reaches_the_prandtl_load() {
     let last = *pressures.last().unwrap();
     let before = pressures[pressures.len() - 3];
     eprintln!("q/cu along the curve: {:?}", pressures.iter().map(|q| q / CU).collect::<Vec<_>>());
+    common::doc_number(
+        "footing.limit",
+        format!("{:.3} c_u, **{}**", last / CU, common::signed_percent(last, limit, 1)),
+    );
     assert!(
         last >= 0.99 * limit && last <= 1.05 * limit,
         "limit pressure {last:.2} kPa = {:.4}·c_u, Prandtl (2+π)·c_u = {limit:.2} kPa",

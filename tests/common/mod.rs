@@ -304,3 +304,27 @@ pub fn write_saved_steps(dir: &Path, checkpoints: &[analysis::Checkpoint]) {
         geoslip::output::checkpoints::write(&folder, c).unwrap();
     }
 }
+
+/// Record a number that a document quotes from this test's run, as the document writes it:
+/// `scripts/doc-numbers.py --measured DIR` compares the document's
+/// `<!-- number: ID -->…<!-- /number -->` with it. Written to `$GEOSLIP_DOC_NUMBERS/ID` when that
+/// variable names a folder (the test command sets it); otherwise nothing is written.
+pub fn doc_number(id: &str, text: impl Into<String>) {
+    if let Some(dir) = std::env::var_os("GEOSLIP_DOC_NUMBERS") {
+        let dir = Path::new(&dir);
+        std::fs::create_dir_all(dir).unwrap_or_else(|e| panic!("{}: {e}", dir.display()));
+        let path = dir.join(id);
+        std::fs::write(&path, text.into()).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    }
+}
+
+/// `value` against `exact` as a signed percentage with `digits` decimals, as the documents write
+/// it: "+2.4 %", "−0.1 %" (a true minus sign), "0.0 %".
+pub fn signed_percent(value: f64, exact: f64, digits: usize) -> String {
+    let d = 100.0 * (value - exact) / exact;
+    let text = format!("{d:+.digits$} %");
+    if text.trim_start_matches(['+', '-']).chars().all(|c| c == '0' || c == '.' || c == ' ' || c == '%') {
+        return text.trim_start_matches(['+', '-']).to_string();
+    }
+    text.replace('-', "−")
+}
