@@ -243,7 +243,7 @@ fn run() -> Result<(), Error> {
             );
         }
     }
-    // the two-wedge method (closed-forms.md §7) on the cover alone, with the critical interface's
+    // the two-wedge method (docs/verification.md §7) on the cover alone, with the critical interface's
     // peak and residual friction and no geosynthetic tension
     let cover = &model.soils.iter().find(|(n, _)| n == "cover").expect("the model has a cover").1;
     let two_wedge = |phi_i: f64| {

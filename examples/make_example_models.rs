@@ -42,7 +42,7 @@ const CYCLIC_PULLOUT_HEADER: &str = "\
 ";
 
 const CYCLIC_SHEAR_HEADER: &str = "\
-# Cyclic direct shear: a soil block on a rigid base (the Coulomb block of closed-forms s4) with a
+# Cyclic direct shear: a soil block on a rigid base (the Coulomb block of docs/verification.md §4) with a
 # hyperbolic interface (Ks = 2000 kPa/m, c = 10 kPa, phi = 20 deg) under 20 kPa, sheared to +8 mm,
 # -8 mm, +8 mm, then down to +4 mm, round a small loop to -4 mm and +4 mm, and on to -8 mm, in 0.4 mm
 # steps.
@@ -90,7 +90,7 @@ const CLAY_HEADER: &str = "\
 # 20 kPa surcharge, then pulled 60 mm out of the front face in 60 increments. Interface: Coulomb with
 # the paper's Ks = 540 kN/m3 per face. The paper gives its other properties only by reference (Chan,
 # Yi & Scott 1993); these are chosen so that the closed forms of a bar on a rigid bed
-# (shared/reference/closed-forms.md s2) put the first slip at the paper's 1.2 cm and full slip at its
+# (docs/verification.md §2) put the first slip at the paper's 1.2 cm and full slip at its
 # 3.7 cm: tau_max = Ks * 0.012 = 6.48 kPa = c + sigma_n tan(phi) with c = 2 kPa, phi = 12.6 deg and
 # sigma_n = 20 kPa; EA = 2 tau_max L^2 / (2 (0.037 - 0.012)) = 260 kN/m. The clay (E = 8 MPa,
 # nu = 0.3) is deformable, so the computed displacements differ somewhat from those targets.
