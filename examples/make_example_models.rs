@@ -165,13 +165,8 @@ fn paper_block() -> ModelFile {
                 free_length: None,
                 mode: Default::default(),
             }),
-            slave: None,
-            master: None,
-            master_normal: None,
             law: ShearLawSpec::Linear { shear_stiffness: 10.0 },
-            lower_law: None,
-            dilation: None,
-            bearing: None,
+            ..Default::default()
         }],
         stages: vec![
             Stage {
@@ -252,14 +247,10 @@ fn soil_nail() -> ModelFile {
         supports: vec![support("face and back", &[Direction::Y])],
         interfaces: vec![InterfaceSpec {
             name: "shaft".into(),
-            reinforcement: None,
             slave: Some(grout.column_nodes(1).into_iter().rev().collect()),
             master: Some(sand.column_nodes(0).into_iter().rev().collect()),
-            master_normal: None,
             law: ShearLawSpec::Coulomb { shear_stiffness: 50_000.0, cohesion: 0.0, friction_angle: 35.0 },
-            lower_law: None,
-            dilation: None,
-            bearing: None,
+            ..Default::default()
         }],
         stages: vec![
             Stage {

@@ -22,7 +22,6 @@ pub struct Block {
 impl Block {
     /// A block from (x0, y0), `width` × `height`, `nx` × `ny` cells (each split in two triangles for
     /// tri3/tri6). Node ids start at `first_node`, element ids at `first_element`.
-    #[allow(clippy::too_many_arguments)]
     pub fn new(
         kind: SolidKind,
         (x0, y0): (f64, f64),
@@ -317,13 +316,8 @@ impl PullOutBox {
                         free_length: None,
                         mode: Default::default(),
                     }),
-                    slave: None,
-                    master: None,
-                    master_normal: None,
                     law: self.law.clone(),
-                    lower_law: None,
-                    dilation: None,
-                    bearing: None,
+                    ..Default::default()
                 })
                 .collect(),
             stages: vec![
@@ -403,14 +397,11 @@ pub fn block_on_rigid_base(law: ShearLawSpec, q: f64, d: f64, load_factors: Vec<
         supports: vec![support("base", &[Direction::X, Direction::Y])],
         interfaces: vec![InterfaceSpec {
             name: "base".into(),
-            reinforcement: None,
             slave: Some(block.row_nodes(0)),
             master: Some(base),
             master_normal: Some([0.0, -1.0]),
             law,
-            lower_law: None,
-            dilation: None,
-            bearing: None,
+            ..Default::default()
         }],
         stages: vec![
             Stage {

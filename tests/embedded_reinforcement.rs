@@ -71,14 +71,10 @@ fn doubled_and_retied(pull: f64, steps: usize) -> ModelFile {
     file.node_sets.insert("grid.head".into(), vec![grid[0]]);
     let pair = |name: &str, slave: Vec<u64>, law: ShearLawSpec| InterfaceSpec {
         name: name.into(),
-        reinforcement: None,
         slave: Some(slave),
         master: Some(path.clone()),
-        master_normal: None,
         law,
-        lower_law: None,
-        dilation: None,
-        bearing: None,
+        ..Default::default()
     };
     let (ks, phi) = match spec.law {
         ShearLawSpec::Coulomb { shear_stiffness, friction_angle, .. } => (shear_stiffness, friction_angle),

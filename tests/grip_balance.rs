@@ -56,14 +56,11 @@ fn gripped_strip() -> ModelFile {
         ],
         interfaces: vec![InterfaceSpec {
             name: "strip".into(),
-            reinforcement: None,
             slave: Some(grid),
             master: Some(base),
             master_normal: Some([0.0, -1.0]),
             law: ShearLawSpec::Coulomb { shear_stiffness: 1000.0, cohesion: 0.0, friction_angle: 30.0 },
-            lower_law: None,
-            dilation: None,
-            bearing: None,
+            ..Default::default()
         }],
         stages: vec![
             Stage {

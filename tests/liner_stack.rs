@@ -81,13 +81,9 @@ fn stack_in_shear() -> ModelFile {
                 free_length: None,
                 mode: Default::default(),
             }),
-            slave: None,
-            master: None,
-            master_normal: None,
             law: coulomb(33.0),
             lower_law: Some(ShearLawSpec::Coulomb { shear_stiffness: 2.0e4, cohesion: 5.0, friction_angle: 28.0 }),
-            dilation: None,
-            bearing: None,
+            ..Default::default()
         }],
         stages: vec![
             Stage {

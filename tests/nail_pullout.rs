@@ -73,14 +73,10 @@ fn nail_in_rigid_ground(law: ShearLawSpec, stage: Stage) -> ModelFile {
         supports: vec![support("ground", &[Direction::X, Direction::Y])],
         interfaces: vec![InterfaceSpec {
             name: "shaft".into(),
-            reinforcement: None,
             slave: Some(nail),
             master: Some(face.into_iter().rev().collect()),
-            master_normal: None,
             law,
-            lower_law: None,
-            dilation: None,
-            bearing: None,
+            ..Default::default()
         }],
         stages: vec![stage],
         analysis: AnalysisSettings {

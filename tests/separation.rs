@@ -46,14 +46,11 @@ fn lifted_block() -> ModelFile {
         supports: vec![geoslip::meshgen::support("base", &[Direction::X, Direction::Y])],
         interfaces: vec![InterfaceSpec {
             name: "base".into(),
-            reinforcement: None,
             slave: Some(block.row_nodes(0)),
             master: Some(base),
             master_normal: Some([0.0, -1.0]),
             law: ShearLawSpec::Coulomb { shear_stiffness: 5000.0, cohesion: 2.0, friction_angle: 30.0 },
-            lower_law: None,
-            dilation: None,
-            bearing: None,
+            ..Default::default()
         }],
         stages: vec![
             Stage {

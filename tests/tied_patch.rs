@@ -61,14 +61,10 @@ fn stacked_blocks(kind: SolidKind, nx: usize) -> ModelFile {
         ],
         interfaces: vec![InterfaceSpec {
             name: "tie".into(),
-            reinforcement: None,
             slave: Some(upper.row_nodes(0)),
             master: Some(lower.row_nodes(2)),
-            master_normal: None,
             law: ShearLawSpec::Tie,
-            lower_law: None,
-            dilation: None,
-            bearing: None,
+            ..Default::default()
         }],
         stages: vec![Stage {
             name: "compress".into(),

@@ -129,27 +129,21 @@ fn lined_slope(
     let coulomb = |phi: f64| ShearLawSpec::Coulomb { shear_stiffness: 5.0e4, cohesion: 0.0, friction_angle: phi };
     let mut interfaces = vec![InterfaceSpec {
         name: "geomembrane".into(),
-        reinforcement: None,
         slave: Some((0..=n_slope).rev().map(|i| base_nodes[i].0).collect()),
         master: Some((0..=n_slope).rev().map(|i| base_nodes[i].1).collect()),
         master_normal: Some([-up_normal[0], -up_normal[1]]),
         law: coulomb(phi_i),
-        lower_law: None,
-        dilation: None,
-        bearing: None,
+        ..Default::default()
     }];
     if toe {
         interfaces.push(InterfaceSpec {
             name: "toe".into(),
-            reinforcement: None,
             slave: Some(toe_base.iter().rev().map(|b| b.0).collect()),
             master: Some(toe_base.iter().rev().map(|b| b.1).collect()),
             master_normal: Some([0.0, -1.0]),
             // the cohesion of the two-wedge method's passive wedge base, C = c·h / sin β
             law: ShearLawSpec::Coulomb { shear_stiffness: 5.0e4, cohesion: COVER_COHESION, friction_angle: phi_soil },
-            lower_law: None,
-            dilation: None,
-            bearing: None,
+            ..Default::default()
         });
     }
     let mut file = common::soil_model(
@@ -206,13 +200,8 @@ fn lined_slope_with_pull(beta_deg: f64, length: f64, phi_i: f64, phi_soil: f64, 
             free_length: None,
             mode: Default::default(),
         }),
-        slave: None,
-        master: None,
-        master_normal: None,
         law: ShearLawSpec::Tie,
-        lower_law: None,
-        dilation: None,
-        bearing: None,
+        ..Default::default()
     });
     let beta = beta_deg.to_radians();
     file.stages[0].loads.push(LoadSpec::Point {

@@ -75,7 +75,6 @@ impl StepResults {
     /// The step's results at the equilibrium `state`, whose soil and bars exert `element_force`
     /// (`assembly::soil_and_bar_force`, found by the increment's closing check for the same
     /// displacements) and whose springs are `springs`.
-    #[allow(clippy::too_many_arguments)]
     pub fn compute(
         model: &Model,
         elements: &ElementMatrices,

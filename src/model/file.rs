@@ -64,6 +64,31 @@ pub struct ModelFile {
     pub series: Option<Series>,
 }
 
+/// An empty model in metres and kilonewtons, for models built in code: name the fields that
+/// matter and take the rest from here (`ModelFile { nodes, elements, stages, ..Default::default() }`).
+/// A model file must still give `units`, `materials` and `stages`.
+impl Default for ModelFile {
+    fn default() -> Self {
+        ModelFile {
+            title: String::new(),
+            units: Units { length: LengthUnit::Metre, force: ForceUnit::Kilonewton },
+            materials: Materials::default(),
+            mesh: None,
+            nodes: Vec::new(),
+            elements: Vec::new(),
+            bars: Vec::new(),
+            node_sets: BTreeMap::new(),
+            edge_sets: BTreeMap::new(),
+            element_sets: BTreeMap::new(),
+            supports: Vec::new(),
+            interfaces: Vec::new(),
+            stages: Vec::new(),
+            analysis: AnalysisSettings::default(),
+            series: None,
+        }
+    }
+}
+
 /// A test series: the model is run once per value, with the `pressure` of the named edge-traction
 /// load set to that value (for example a pull-out test at three normal stresses). Each run writes to a
 /// folder of its own; the series adds `series.csv`, a plot of the peak reaction against the value
@@ -420,6 +445,25 @@ pub struct InterfaceSpec {
     /// law and reported apart from friction. Only for a reinforcement.
     #[serde(default)]
     pub bearing: Option<BearingSpec>,
+}
+
+/// An unnamed tied interface with nothing else set, for interfaces built in code: name the fields
+/// that matter (`InterfaceSpec { name, reinforcement, law, ..Default::default() }`). A model file
+/// must still give `name` and `law`.
+impl Default for InterfaceSpec {
+    fn default() -> Self {
+        InterfaceSpec {
+            name: String::new(),
+            reinforcement: None,
+            slave: None,
+            master: None,
+            master_normal: None,
+            law: ShearLawSpec::Tie,
+            lower_law: None,
+            dilation: None,
+            bearing: None,
+        }
+    }
 }
 
 /// Dilatancy on the normal tie: u_n,reinforcement − u_n,soil = min(tan ψ·κ, `max_dilation`), κ the

@@ -48,13 +48,8 @@ pub fn bar_in_rigid_soil(
                 free_length: None,
                 mode: Default::default(),
             }),
-            slave: None,
-            master: None,
-            master_normal: None,
             law,
-            lower_law: None,
-            dilation: None,
-            bearing: None,
+            ..Default::default()
         }],
         stages: vec![Stage {
             name: "pull".into(),
