@@ -88,17 +88,8 @@ fn tension_at(model: &Model, step: &geoslip::analysis::results::StepResults, lay
 /// c = 2 kPa, φ = 32°) on the 3H:1V slope (L = 31.62 m + h/sin β), sliding on the geotextile /
 /// geomembrane interface at its residual 16°, with a geosynthetic force `t` up the slope.
 fn two_wedge_residual(t: f64) -> f64 {
-    let (gamma, h, c, phi, phi_i) = (18.0, 0.6, 2.0f64, 32.0f64, 16.0f64);
-    let b = (CREST[1] / CREST[0]).atan();
-    let (sb, cb) = (b.sin(), b.cos());
-    let length = CREST[0].hypot(CREST[1]) + h / sb;
-    let w_a = gamma * h * h * (length / h - 1.0 / sb - b.tan() / 2.0);
-    let n_a = w_a * cb;
-    let w_p = gamma * h * h / (2.0 * b).sin();
-    let (tan_phi, tan_phi_i) = (phi.to_radians().tan(), phi_i.to_radians().tan());
-    let x = w_a - n_a * cb - t * sb;
-    let a = x * cb;
-    let bq = -(x * sb * tan_phi + n_a * tan_phi_i * sb * cb + sb * (c * h / sb + w_p * tan_phi));
-    let c0 = n_a * tan_phi_i * sb * sb * tan_phi;
-    (-bq + (bq * bq - 4.0 * a * c0).sqrt()) / (2.0 * a)
+    let cover = common::two_wedge::Cover { gamma: 18.0, h: 0.6, c: 2.0, phi: 32.0 };
+    let beta = (CREST[1] / CREST[0]).atan();
+    let length = CREST[0].hypot(CREST[1]) + cover.h / beta.sin();
+    cover.factor_of_safety(beta.to_degrees(), length, 16.0, t)
 }

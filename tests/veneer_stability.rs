@@ -214,21 +214,10 @@ fn lined_slope_with_pull(beta_deg: f64, length: f64, phi_i: f64, phi_soil: f64, 
     file
 }
 
-/// The two-wedge factor of safety (docs/verification.md §7) with a geosynthetic force `t` parallel to
-/// the slope; `c_a` = 0 (the liner interface has no adhesion).
+/// The two-wedge factor of safety (docs/verification.md §7) of the tests' cover with a geosynthetic
+/// force `t` parallel to the slope; `c_a` = 0 (the liner interface has no adhesion).
 fn two_wedge(beta_deg: f64, length: f64, phi_i: f64, phi: f64, t: f64) -> f64 {
-    let b = beta_deg.to_radians();
-    let (sb, cb) = (b.sin(), b.cos());
-    let w_a = GAMMA * H * H * (length / H - 1.0 / sb - b.tan() / 2.0);
-    let n_a = w_a * cb;
-    let w_p = GAMMA * H * H / (2.0 * b).sin();
-    let cover_c = COVER_COHESION * H / sb;
-    let (tan_phi, tan_phi_i) = (phi.to_radians().tan(), phi_i.to_radians().tan());
-    let x = w_a - n_a * cb - t * sb;
-    let a = x * cb;
-    let bq = -(x * sb * tan_phi + n_a * tan_phi_i * sb * cb + sb * (cover_c + w_p * tan_phi));
-    let c0 = n_a * tan_phi_i * sb * sb * tan_phi;
-    (-bq + (bq * bq - 4.0 * a * c0).sqrt()) / (2.0 * a)
+    common::two_wedge::Cover { gamma: GAMMA, h: H, c: COVER_COHESION, phi }.factor_of_safety(beta_deg, length, phi_i, t)
 }
 
 fn factor_of_safety(file: &ModelFile) -> f64 {

@@ -4,6 +4,7 @@
 pub mod law_curve;
 pub mod restart;
 pub mod slip;
+pub mod two_wedge;
 
 use geoslip::analysis::{self, Collect, RunOptions};
 use geoslip::linsol::Backend;
