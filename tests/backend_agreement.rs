@@ -141,25 +141,26 @@ fn yielding_soil_agrees_on_every_backend() {
     clay.cohesion = 100.0;
     let mut soil = BTreeMap::new();
     soil.insert("clay".into(), clay);
-    let file = common::soil_model(
-        "coarse footing",
-        block.nodes,
-        block.elements,
-        soil,
+    let file = geoslip::model::file::ModelFile {
+        title: "coarse footing".into(),
+        materials: geoslip::model::file::Materials { soil, ..Default::default() },
+        nodes: block.nodes,
+        elements: block.elements,
         node_sets,
-        vec![
+        supports: vec![
             support("base", &[Direction::X, Direction::Y]),
             support("axis", &[Direction::X]),
             support("far", &[Direction::X]),
         ],
-        vec![Stage {
+        stages: vec![Stage {
             name: "push".into(),
             load_factors: vec![0.2, 0.4, 0.6, 0.8, 1.0],
             prescribed: vec![common::prescribed("footing", None, Some(-0.05))],
             ..Default::default()
         }],
-        AnalysisSettings { scheme: Scheme::Newton, ..AnalysisSettings::default() },
-    );
+        analysis: AnalysisSettings { scheme: Scheme::Newton, ..AnalysisSettings::default() },
+        ..Default::default()
+    };
     let model = common::model(&file, "coarse-footing.toml");
     let reference = common::run(&model, Backend::Dense);
     let yielding: usize = reference.steps.iter().map(|(rec, _)| rec.yielding_points).max().unwrap_or(0);

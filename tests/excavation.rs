@@ -42,14 +42,14 @@ fn removing_the_top_layer_heaves_and_unloads_the_rest_as_one_dimensional_unloadi
     ground.k0 = Some(K0);
     let mut soil = BTreeMap::new();
     soil.insert("ground".into(), ground);
-    let mut file = common::soil_model(
-        "excavation",
-        block.nodes,
-        block.elements,
-        soil,
+    let mut file = geoslip::model::file::ModelFile {
+        title: "excavation".into(),
+        materials: geoslip::model::file::Materials { soil, ..Default::default() },
+        nodes: block.nodes,
+        elements: block.elements,
         node_sets,
-        vec![support("base", &[Direction::X, Direction::Y]), support("sides", &[Direction::X])],
-        vec![
+        supports: vec![support("base", &[Direction::X, Direction::Y]), support("sides", &[Direction::X])],
+        stages: vec![
             Stage {
                 name: "geostatic".into(),
                 load_factors: vec![1.0],
@@ -64,8 +64,9 @@ fn removing_the_top_layer_heaves_and_unloads_the_rest_as_one_dimensional_unloadi
                 ..Default::default()
             },
         ],
-        AnalysisSettings::default(),
-    );
+        analysis: AnalysisSettings::default(),
+        ..Default::default()
+    };
     // the top two element rows (y from 3 to 4)
     file.element_sets.insert("cut".into(), vec![7, 8]);
     let model = common::model(&file, "excavation.toml");

@@ -53,14 +53,14 @@ fn layered_column(kind: SolidKind, k0_procedure: bool, water: bool) -> ModelFile
     let mut soil = BTreeMap::new();
     soil.insert("upper".into(), upper_soil);
     soil.insert("lower".into(), lower_soil);
-    common::soil_model(
-        "level ground",
+    geoslip::model::file::ModelFile {
+        title: "level ground".into(),
+        materials: geoslip::model::file::Materials { soil, ..Default::default() },
         nodes,
         elements,
-        soil,
         node_sets,
-        vec![support("base", &[Direction::X, Direction::Y]), support("sides", &[Direction::X])],
-        vec![Stage {
+        supports: vec![support("base", &[Direction::X, Direction::Y]), support("sides", &[Direction::X])],
+        stages: vec![Stage {
             name: "geostatic".into(),
             load_factors: vec![1.0],
             loads: vec![LoadSpec::Gravity { factor: 1.0 }],
@@ -73,8 +73,9 @@ fn layered_column(kind: SolidKind, k0_procedure: bool, water: bool) -> ModelFile
             }),
             ..Default::default()
         }],
-        AnalysisSettings { scheme: Scheme::Newton, ..AnalysisSettings::default() },
-    )
+        analysis: AnalysisSettings { scheme: Scheme::Newton, ..AnalysisSettings::default() },
+        ..Default::default()
+    }
 }
 
 /// Total vertical stress, pore pressure and K0 at height y of the layered column.

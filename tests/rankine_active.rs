@@ -40,14 +40,14 @@ fn backfill() -> (ModelFile, Vec<u64>) {
     let mut soil = BTreeMap::new();
     soil.insert("sand".into(), sand);
     let steps = 20;
-    let file = common::soil_model(
-        "Rankine active",
-        block.nodes,
-        block.elements,
-        soil,
+    let file = geoslip::model::file::ModelFile {
+        title: "Rankine active".into(),
+        materials: geoslip::model::file::Materials { soil, ..Default::default() },
+        nodes: block.nodes,
+        elements: block.elements,
         node_sets,
-        vec![support("base", &[Direction::Y]), support("far", &[Direction::X])],
-        vec![
+        supports: vec![support("base", &[Direction::Y]), support("far", &[Direction::X])],
+        stages: vec![
             Stage {
                 name: "K0".into(),
                 load_factors: vec![1.0],
@@ -63,8 +63,9 @@ fn backfill() -> (ModelFile, Vec<u64>) {
                 ..Default::default()
             },
         ],
-        common::newton(1e-8),
-    );
+        analysis: common::newton(1e-8),
+        ..Default::default()
+    };
     (file, wall)
 }
 

@@ -76,16 +76,17 @@ fn column(staged: bool) -> ModelFile {
         }]
     };
     {
-        let mut file = common::soil_model(
-            "fill built in lifts",
-            block.nodes,
-            block.elements,
-            soil,
+        let mut file = geoslip::model::file::ModelFile {
+            title: "fill built in lifts".into(),
+            materials: geoslip::model::file::Materials { soil, ..Default::default() },
+            nodes: block.nodes,
+            elements: block.elements,
             node_sets,
-            vec![support("base", &[Direction::X, Direction::Y]), support("sides", &[Direction::X])],
+            supports: vec![support("base", &[Direction::X, Direction::Y]), support("sides", &[Direction::X])],
             stages,
-            AnalysisSettings::default(),
-        );
+            analysis: AnalysisSettings::default(),
+            ..Default::default()
+        };
         file.element_sets = element_sets;
         file
     }
@@ -179,14 +180,14 @@ fn a_lift_on_uneven_ground_starts_stress_free() {
     node_sets.insert("base".into(), ground.row_nodes(0));
     let mut element_sets = BTreeMap::new();
     element_sets.insert("lift".into(), lift_ids.clone());
-    let mut file = common::soil_model(
-        "lift on uneven ground",
+    let mut file = geoslip::model::file::ModelFile {
+        title: "lift on uneven ground".into(),
+        materials: geoslip::model::file::Materials { soil, ..Default::default() },
         nodes,
         elements,
-        soil,
         node_sets,
-        vec![support("base", &[Direction::X, Direction::Y])],
-        vec![
+        supports: vec![support("base", &[Direction::X, Direction::Y])],
+        stages: vec![
             Stage {
                 name: "ground".into(),
                 load_factors: vec![1.0],
@@ -195,8 +196,9 @@ fn a_lift_on_uneven_ground_starts_stress_free() {
             },
             Stage { name: "lift".into(), load_factors: vec![1.0], activate: vec!["lift".into()], ..Default::default() },
         ],
-        AnalysisSettings::default(),
-    );
+        analysis: AnalysisSettings::default(),
+        ..Default::default()
+    };
     file.element_sets = element_sets;
     let model = common::model(&file, "uneven.toml");
     let c = common::run(&model, Backend::Auto);

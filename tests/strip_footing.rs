@@ -54,25 +54,26 @@ fn footing_model() -> (ModelFile, Vec<u64>) {
     let mut soil = BTreeMap::new();
     soil.insert("clay".into(), clay);
     let steps = 30;
-    let file = common::soil_model(
-        "strip footing",
-        block.nodes,
-        block.elements,
-        soil,
+    let file = geoslip::model::file::ModelFile {
+        title: "strip footing".into(),
+        materials: geoslip::model::file::Materials { soil, ..Default::default() },
+        nodes: block.nodes,
+        elements: block.elements,
         node_sets,
-        vec![
+        supports: vec![
             support("base", &[Direction::X, Direction::Y]),
             support("axis", &[Direction::X]),
             support("far", &[Direction::X]),
         ],
-        vec![Stage {
+        stages: vec![Stage {
             name: "push".into(),
             load_factors: (1..=steps).map(|k| k as f64 / steps as f64).collect(),
             prescribed: vec![common::prescribed("footing", None, Some(-0.12))],
             ..Default::default()
         }],
-        common::newton(1e-8),
-    );
+        analysis: common::newton(1e-8),
+        ..Default::default()
+    };
     (file, footing)
 }
 

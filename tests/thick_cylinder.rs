@@ -51,21 +51,22 @@ fn cylinder(kind: SolidKind, rings: usize) -> ModelFile {
     edge_sets.insert("bore".into(), block.column_edges(0));
     let mut soil = BTreeMap::new();
     soil.insert("soil".into(), SoilMaterial::linear_elastic(E, NU, 0.0));
-    let mut file = common::soil_model(
-        "thick-walled cylinder",
-        block.nodes,
-        block.elements,
-        soil,
+    let mut file = geoslip::model::file::ModelFile {
+        title: "thick-walled cylinder".into(),
+        materials: geoslip::model::file::Materials { soil, ..Default::default() },
+        nodes: block.nodes,
+        elements: block.elements,
         node_sets,
-        vec![support("all", &[Direction::Y])],
-        vec![Stage {
+        supports: vec![support("all", &[Direction::Y])],
+        stages: vec![Stage {
             name: "pressure".into(),
             load_factors: vec![1.0],
             loads: vec![LoadSpec::EdgeTraction { name: None, edge_set: "bore".into(), pressure: P, shear: 0.0 }],
             ..Default::default()
         }],
-        AnalysisSettings { geometry: Geometry::Axisymmetric, ..Default::default() },
-    );
+        analysis: AnalysisSettings { geometry: Geometry::Axisymmetric, ..Default::default() },
+        ..Default::default()
+    };
     file.edge_sets = edge_sets;
     file
 }

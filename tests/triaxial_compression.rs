@@ -45,14 +45,14 @@ fn triaxial(kind: SolidKind) -> ModelFile {
     let mut soil = BTreeMap::new();
     soil.insert("sand".into(), sand);
     let pressure = |set: &str| LoadSpec::EdgeTraction { name: None, edge_set: set.into(), pressure: Q, shear: 0.0 };
-    let mut file = common::soil_model(
-        "triaxial compression",
-        block.nodes,
-        block.elements,
-        soil,
+    let mut file = geoslip::model::file::ModelFile {
+        title: "triaxial compression".into(),
+        materials: geoslip::model::file::Materials { soil, ..Default::default() },
+        nodes: block.nodes,
+        elements: block.elements,
         node_sets,
-        vec![support("base", &[Direction::Y])],
-        vec![
+        supports: vec![support("base", &[Direction::Y])],
+        stages: vec![
             Stage {
                 name: "cell pressure".into(),
                 load_factors: vec![1.0],
@@ -66,8 +66,9 @@ fn triaxial(kind: SolidKind) -> ModelFile {
                 ..Default::default()
             },
         ],
-        common::newton(1e-9),
-    );
+        analysis: common::newton(1e-9),
+        ..Default::default()
+    };
     file.edge_sets = edge_sets;
     file.analysis.geometry = Geometry::Axisymmetric;
     file

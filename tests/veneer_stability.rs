@@ -146,14 +146,14 @@ fn lined_slope(
             ..Default::default()
         });
     }
-    let mut file = common::soil_model(
-        "lined slope",
+    let mut file = geoslip::model::file::ModelFile {
+        title: "lined slope".into(),
+        materials: geoslip::model::file::Materials { soil, ..Default::default() },
         nodes,
         elements,
-        soil,
         node_sets,
-        vec![geoslip::meshgen::support("bases", &[Direction::X, Direction::Y])],
-        vec![
+        supports: vec![geoslip::meshgen::support("bases", &[Direction::X, Direction::Y])],
+        stages: vec![
             Stage {
                 name: "cover placed".into(),
                 load_factors: vec![0.25, 0.5, 0.75, 1.0],
@@ -166,14 +166,15 @@ fn lined_slope(
                 ..Default::default()
             },
         ],
-        AnalysisSettings {
+        analysis: AnalysisSettings {
             scheme: Scheme::Newton,
             max_iterations: 400,
             force_tolerance: 1e-6,
             displacement_tolerance: 1e-6,
             ..AnalysisSettings::default()
         },
-    );
+        ..Default::default()
+    };
     file.interfaces = interfaces;
     file
 }

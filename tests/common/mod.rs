@@ -107,38 +107,6 @@ pub fn relative_error(value: f64, exact: f64) -> f64 {
     ((value - exact) / exact).abs()
 }
 
-/// A soil-only model (no bars, no interfaces, no edge sets) in kN and m.
-#[allow(clippy::too_many_arguments)]
-pub fn soil_model(
-    title: &str,
-    nodes: Vec<geoslip::model::file::NodeRow>,
-    elements: Vec<geoslip::model::file::SolidElementRow>,
-    soil: std::collections::BTreeMap<String, geoslip::model::file::SoilMaterial>,
-    node_sets: std::collections::BTreeMap<String, Vec<u64>>,
-    supports: Vec<geoslip::model::file::Support>,
-    stages: Vec<geoslip::model::file::Stage>,
-    analysis: geoslip::model::file::AnalysisSettings,
-) -> ModelFile {
-    use geoslip::model::file::*;
-    ModelFile {
-        title: title.into(),
-        units: Units { length: LengthUnit::Metre, force: ForceUnit::Kilonewton },
-        materials: Materials { soil, reinforcement: Default::default() },
-        nodes,
-        elements,
-        bars: Vec::new(),
-        node_sets,
-        edge_sets: Default::default(),
-        element_sets: Default::default(),
-        supports,
-        interfaces: Vec::new(),
-        stages,
-        analysis,
-        mesh: None,
-        series: None,
-    }
-}
-
 /// Two blocks stacked: `upper` sits on `lower`'s top row, whose nodes it takes over. Returns the
 /// nodes, the elements, and the renaming of `upper`'s bottom-row nodes.
 pub fn stack(
