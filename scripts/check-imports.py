@@ -9,7 +9,9 @@ out) is resolved to the module file it names. It then checks:
 - no circle between files (a file's `mod` declarations are not imports; its `use` of a child is);
 - no circle between the top-level modules (`analysis`, `model`, `interface`, …, `mesh.rs`);
 - only `model`, `output`, `cli`, `meshgen` and `calibration` import `model::file`, the serde types of the file
-  format: the core reads the checked model, or types of its own that the file format re-uses.
+  format: the core reads the checked model, or types of its own that the file format re-uses;
+- `output` does not import `linsol`: the results are written from the analysis's values, and the
+  run's statistics come through `analysis`.
 With --list it prints the top-level modules in layers (each imports only the ones below it) and
 every file's imports. Exits with 1 and names the circle or the import when a check fails.
 """
@@ -195,6 +197,8 @@ def main():
     for key, targets in sorted(files.items()):
         if key and key[0] not in MAY_IMPORT_FILE_FORMAT and ("model", "file") in targets:
             failures.append(f"{name(key)} imports model::file: the core must not depend on the file format")
+        if key and key[0] == "output" and any(t and t[0] == "linsol" for t in targets):
+            failures.append(f"{name(key)} imports linsol: output writes what the analysis hands it")
     if listing:
         print("top-level modules, in layers from the top (each imports only modules below it):")
         for i, layer in enumerate(layers(top)):

@@ -34,7 +34,7 @@ impl SizeLimit {
     pub fn of_memory(limit_mb: Option<f64>) -> SizeLimit {
         match limit_mb.filter(|m| m.is_finite() && *m > 0.0) {
             Some(mb) => SizeLimit { bytes: (mb * 1048576.0) as u64, why: "--memory-limit" },
-            None => match crate::linsol::available_memory_mb() {
+            None => match crate::memory::available_memory_mb() {
                 Some(mb) => SizeLimit { bytes: (mb * 1048576.0) as u64, why: "the memory this machine has available" },
                 None => SizeLimit { bytes: 4 << 30, why: "4 GB when the machine's memory is not known" },
             },

@@ -25,9 +25,14 @@ pub mod gmsh;
 pub mod input_file;
 pub mod interface;
 pub mod linsol;
+pub mod memory;
 pub mod mesh;
 pub mod meshgen;
 pub mod model;
+// The FFI that is not a linear solver: the C heap, the resource limits of a child program, and
+// HDF5's direct chunk write. The solver backends' FFI is in `linsol::native`.
+#[allow(unsafe_code)]
+pub mod native;
 pub mod output;
 
 pub use error::{Error, ModelError, Problem, SolveError};

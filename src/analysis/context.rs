@@ -167,7 +167,7 @@ fn check_memory(model: &Model, options: &RunOptions) -> Result<(), SolveError> {
     if equations >= limit || entries >= limit / 2 {
         return Err(SolveError::BeyondIndices { equations, entries, limit });
     }
-    if let Some(limit) = options.solver.memory_limit_mb.or_else(crate::linsol::available_memory_mb) {
+    if let Some(limit) = options.solver.memory_limit_mb.or_else(crate::memory::available_memory_mb) {
         let needed = model_memory_estimate_mb(model);
         if needed > limit {
             return Err(SolveError::OutOfMemory(Box::new(MemoryShortfall {

@@ -55,6 +55,7 @@ mod stage;
 mod state;
 mod strength_reduction;
 
+pub use crate::linsol::linear_system::SolverStats;
 pub use checkpoint::{Checkpoint, ResumeRefusal};
 pub use context::model_memory_estimate_mb;
 pub use iteration_system::{first_system, IterationSystem};
@@ -65,7 +66,6 @@ pub use springs::SpringResult;
 pub use state::State;
 
 use crate::error::Error;
-use crate::linsol::linear_system::SolverStats;
 use crate::model::Model;
 use context::Context;
 

@@ -47,7 +47,7 @@ pub struct Measurement {
 
 /// Peak resident memory of this process so far (VmHWM), MB.
 pub fn peak_memory_mb() -> f64 {
-    linsol::process_status_mb("VmHWM:")
+    crate::memory::process_status_mb("VmHWM:")
 }
 
 /// Build the model's first system and time one backend on it (`None`: the model alone).
@@ -235,7 +235,7 @@ pub struct NonlinearMeasurement {
     pub error: Option<String>,
 }
 
-pub use linsol::resident_memory_mb;
+pub use crate::memory::resident_memory_mb;
 
 /// Counts steps and re-associations, keeps nothing else.
 #[derive(Default)]

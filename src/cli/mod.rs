@@ -218,7 +218,7 @@ enum Command {
 /// MPI starts first; rank 0 runs the command and every other rank serves MUMPS's distributed
 /// factorisations and solves until rank 0 is done.
 pub fn main() -> ExitCode {
-    crate::linsol::native::heap::one_arena_per_core();
+    crate::native::heap::one_arena_per_core();
     #[cfg(feature = "mpi")]
     {
         let Some(cluster) = crate::linsol::cluster::Cluster::start() else {

@@ -10,7 +10,7 @@
 //! - network: no TCP bind or connect; no abstract Unix socket or signal outside the sandbox;
 //! - the environment is emptied but for HOME, XDG_CONFIG_HOME and TMPDIR (all the scratch folder),
 //!   PATH and LANG;
-//! - resource limits (set in the child before Gmsh starts, `linsol::native::child_limits`): address
+//! - resource limits (set in the child before Gmsh starts, `native::child_limits`): address
 //!   space, file size, CPU time, no core file, and the child dies with geoslip;
 //! - the wall time: the child is killed when it passes `wall_seconds`.
 //!
@@ -156,7 +156,7 @@ pub fn run(
         .stdin(Stdio::null())
         .stdout(open(&stdout)?)
         .stderr(open(&stderr)?);
-    crate::linsol::native::child_limits::set(&mut command, limits.memory_bytes, limits.file_bytes, limits.wall_seconds);
+    crate::native::child_limits::set(&mut command, limits.memory_bytes, limits.file_bytes, limits.wall_seconds);
     let (program, readable, scratch_owned) = (program.to_path_buf(), readable.to_path_buf(), scratch.to_path_buf());
     // the restriction holds for this thread and what it starts, and ends with it
     let status = std::thread::spawn(move || -> Result<ExitStatus, ConfineError> {

@@ -126,7 +126,7 @@ pub fn mesh_geometry(geometry: &Path, options: MeshingOptions) -> Result<(GmshMe
     super::read::check_declared_size(
         geometry,
         &bytes,
-        options.memory_limit_mb.or_else(crate::linsol::available_memory_mb),
+        options.memory_limit_mb.or_else(crate::memory::available_memory_mb),
     )?;
     let mut mesh = GmshMesh::from_bytes(&out, &bytes)?;
     mesh.path = geometry.to_path_buf();

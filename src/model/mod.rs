@@ -170,7 +170,7 @@ impl Default for LoadOptions {
 impl LoadOptions {
     /// The memory limit a mesh is held to: the one given, or what the machine has available.
     pub fn memory_limit(&self) -> Option<f64> {
-        self.memory_limit_mb.or_else(crate::linsol::available_memory_mb)
+        self.memory_limit_mb.or_else(crate::memory::available_memory_mb)
     }
 }
 

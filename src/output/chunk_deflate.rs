@@ -1,5 +1,5 @@
 //! A step field's chunk filtered as HDF5's shuffle and deflate filters would filter it, here
-//! instead of in the library, and stored as it is (`linsol::native::hdf5_chunk`). What a reader
+//! instead of in the library, and stored as it is (`native::hdf5_chunk`). What a reader
 //! finds is what HDF5's own filters write, a zlib stream (RFC 1950) of shuffled bytes, read back
 //! through the same pipeline by h5py, meshio or ParaView. What differs is the cost: libdeflate
 //! compresses at level 1 about twice as fast as the system zlib that HDF5's filter calls, and

@@ -5,7 +5,7 @@
 use super::chunk_deflate::ChunkDeflater;
 use super::options::FieldPrecision;
 use super::xdmf::{DataRef, NumberType};
-use crate::linsol::native::hdf5_chunk;
+use crate::native::hdf5_chunk;
 use hdf5::types::VarLenUnicode;
 use hdf5::{Dataset, Group, H5Type, Location};
 use std::cell::RefCell;

@@ -45,9 +45,9 @@ pub use owned_folder::OwnedFolder;
 pub use summary::{FieldFiles, RunSummary, TargetPeak, Unknowns};
 
 use crate::analysis::results::StepResults;
+use crate::analysis::SolverStats;
 use crate::analysis::{StepRecord, StepSink};
 use crate::error::Error;
-use crate::linsol::linear_system::SolverStats;
 use crate::model::file::Direction;
 use crate::model::{Model, UnitLabels};
 use kept_steps::{HeldStep, HeldSteps};
@@ -73,7 +73,7 @@ pub fn run_and_write_with(
     observe: &mut dyn StepSink,
 ) -> Result<f64, Error> {
     let mut writer = ResultWriter::with_options(model, out, "auto", output)?;
-    let options = crate::analysis::RunOptions::for_model(model, crate::linsol::Backend::Auto);
+    let options = crate::analysis::RunOptions { analysis: model.analysis.clone(), ..Default::default() };
     write_run(model, &options, &mut writer, observe)
 }
 

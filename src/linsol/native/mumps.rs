@@ -14,7 +14,8 @@
 
 use crate::error::{Phase, SolveError};
 use crate::linsol::csc::CscMatrix;
-use crate::linsol::{available_memory_mb, resident_memory_mb, Backend, Failure, LinearSolver, Ordering, SolverOptions};
+use crate::linsol::{Backend, Failure, LinearSolver, Ordering, SolverOptions};
+use crate::memory::{available_memory_mb, resident_memory_mb};
 use geoslip_sys::mumps as ffi;
 use std::ffi::CStr;
 use std::sync::atomic::{AtomicU64, Ordering as AtomicOrdering};
