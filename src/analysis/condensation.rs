@@ -21,22 +21,21 @@
 use super::state::State;
 use crate::assembly::{bar_force, ElementMatrices, SystemInputs};
 use crate::dofs::DofMap;
-use crate::linsol::condensed::CondensedSystem;
+use crate::linsol::condensed::{CondensedError, CondensedSystem, InterfacePart, KeptUnknowns, SoilPart};
 use crate::linsol::csc::Triplets;
 use crate::linsol::linear_system::SolverStats;
-use crate::linsol::Failure;
+use std::rc::Rc;
 
 /// Largest number of kept unknowns condensed onto, and the largest share of all the unknowns they
 /// may be. The dense system's LU is O(m³) and it holds S and the factors, 16·m² bytes (576 MB at
 /// the limit). Measured on the 4·10⁵-unknown pull-out (docs/performance.md): 4557 kept unknowns,
-/// condensed 56 s against 137 s on the full system, the peak memory about the same.
+/// condensed in about 25–27 s against 137 s on the full system, the peak memory about the same.
 pub const MAX_KEPT: usize = 6000;
 const MAX_KEPT_SHARE: f64 = 0.5;
 
 /// The unknowns an interface can touch: every multiplier; the DOFs of every bar; the DOFs of every
 /// master node and slave point of every contact face; any DOF no present soil element holds.
-/// Sorted equation numbers.
-pub fn kept_equations(elements: &ElementMatrices, dofs: &DofMap, state: &State) -> Vec<usize> {
+pub fn kept_equations(elements: &ElementMatrices, dofs: &DofMap, state: &State) -> KeptUnknowns {
     let mut keep = vec![false; dofs.size()];
     let mut mark = |d: usize| {
         if let Some(e) = dofs.equation[d] {
@@ -72,7 +71,7 @@ pub fn kept_equations(elements: &ElementMatrices, dofs: &DofMap, state: &State) 
     for k in 0..dofs.multipliers.len() {
         keep[dofs.multiplier_equation(k)] = true;
     }
-    keep.iter().enumerate().filter(|(_, &k)| k).map(|(e, _)| e).collect()
+    KeptUnknowns::from_marks(&keep)
 }
 
 /// What a condensed solve gives back.
@@ -101,7 +100,7 @@ pub fn solve(
     if system.soil.trial.tangents.iter().any(Option::is_some) {
         return Condensed::NotHere;
     }
-    let kept = kept_equations(elements, dofs, state);
+    let kept = Rc::new(kept_equations(elements, dofs, state));
     // (nothing to condense onto — soil alone, no interface or bar — is the full system's solve)
     if kept.is_empty() || kept.len() > MAX_KEPT || kept.len() as f64 > MAX_KEPT_SHARE * dofs.size() as f64 {
         return Condensed::NotHere;
@@ -110,18 +109,19 @@ pub fn solve(
     let change: Triplets = system.assemble_reinforcement_and_interface();
     let soil_key = system.soil_fingerprint();
     stats.assembly_seconds += t.elapsed().as_secs_f64();
-    if !CondensedSystem::fits(&kept, &change) {
+    if !kept.holds(&change) {
         return Condensed::NotHere;
     }
-    stats.condensed_unknowns = Some(kept.len());
-    let soil = || system.assemble_soil();
-    let soil_times = |x: &[f64]| system.soil_times(x);
-    match solver.solve(stats, dofs.size(), &kept, soil_key, &soil, &soil_times, key, &change, rhs) {
+    let assemble = || system.assemble_soil();
+    let times = |x: &[f64]| system.soil_times(x);
+    let soil = SoilPart { kept: &kept, key: soil_key, assemble: &assemble, times: &times };
+    let interface = InterfacePart { key, assemble: &|| change.clone() };
+    match solver.solve(stats, &soil, &interface, rhs) {
         Ok((x, residual)) => Condensed::Solved(x, residual),
         // the dense interface system, or a soil interior that the soil alone cannot hold: the full
         // system's recoveries and diagnosis take over
-        Err(Failure::Singular { .. }) => Condensed::NotHere,
-        Err(Failure::Other(e)) => {
+        Err(CondensedError::Fallback(_)) => Condensed::NotHere,
+        Err(CondensedError::Backend(e)) => {
             let warning =
                 format!("the interface iteration's condensed solve failed ({e}); the run goes on with the full system");
             stats.warn(warning);
@@ -139,7 +139,7 @@ pub fn solve(
 pub struct Deferred {
     /// The soil part the condensation was made for.
     soil_key: u64,
-    kept: Vec<usize>,
+    kept: Rc<KeptUnknowns>,
     /// Each kept equation's DOF (`None`: a multiplier).
     kept_dof: Vec<Option<usize>>,
     /// The soil elements' force at every DOF when the interior was balanced.
@@ -174,8 +174,8 @@ impl Deferred {
         let bars = bar_force(elements, &state.bars, &state.u);
         Some(Deferred {
             soil_key,
-            kept: kept.to_vec(),
-            kept_dof: kept.iter().map(|&e| dof_of[e]).collect(),
+            kept: kept.clone(),
+            kept_dof: kept.equations().iter().map(|&e| dof_of[e]).collect(),
             soil_force: element_force.iter().zip(&bars).map(|(f, b)| f - b).collect(),
             moved: vec![0.0; kept.len()],
             soil_moved: vec![0.0; kept.len()],
@@ -209,18 +209,14 @@ impl Deferred {
         stats: &mut SolverStats,
         dofs: &DofMap,
         state: &mut State,
-    ) -> Result<(), Failure> {
+    ) -> Result<(), CondensedError> {
         if self.moved.iter().all(|&v| v == 0.0) {
             return Ok(());
         }
         let x = condensed.follow(stats, &self.moved)?;
-        let mut is_kept = vec![false; dofs.size()];
-        for &e in &self.kept {
-            is_kept[e] = true;
-        }
         for (d, e) in dofs.equation.iter().enumerate() {
             if let Some(e) = *e {
-                if !is_kept[e] {
+                if !self.kept.contains(e) {
                     state.u[d] += x[e];
                 }
             }
@@ -250,15 +246,10 @@ pub fn start_in_balance(
         return None;
     }
     let (kept, soil_key) = condensed.condensed_on()?;
-    if soil_key != system.soil_fingerprint() || kept != kept_equations(elements, dofs, state).as_slice() {
+    if soil_key != system.soil_fingerprint() || **kept != kept_equations(elements, dofs, state) {
         return None;
     }
-    let mut is_kept = vec![false; rhs.len()];
-    for &e in kept {
-        is_kept[e] = true;
-    }
-    let interior: f64 = rhs.iter().zip(&is_kept).filter(|(_, &k)| !k).map(|(r, _)| r * r).sum::<f64>().sqrt();
-    if !(interior <= floor) {
+    if !(kept.interior_norm(rhs) <= floor) {
         return None;
     }
     Deferred::start(condensed, elements, dofs, state, element_force, floor)
@@ -277,10 +268,11 @@ pub fn solve_deferred(
 ) -> Option<(Vec<f64>, f64)> {
     // (the interface's entries assembled only when `key` names a matrix not factorised yet)
     let change = || system.assemble_reinforcement_and_interface();
-    let rhs_kept: Vec<f64> = deferred.kept.iter().map(|&e| rhs[e]).collect();
-    let solved = condensed.solve_kept(stats, deferred.soil_key, key, &change, &rhs_kept).ok()?;
+    let interface = InterfacePart { key, assemble: &change };
+    let rhs_kept = deferred.kept.gather(rhs);
+    let solved = condensed.solve_kept(stats, deferred.soil_key, &interface, &rhs_kept).ok()?;
     let mut x = vec![0.0; rhs.len()];
-    for ((&e, &v), moved) in deferred.kept.iter().zip(&solved.x).zip(deferred.moved.iter_mut()) {
+    for ((&e, &v), moved) in deferred.kept.equations().iter().zip(&solved.x).zip(deferred.moved.iter_mut()) {
         x[e] = v;
         *moved += v;
     }

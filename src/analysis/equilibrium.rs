@@ -27,6 +27,7 @@ use crate::interface::active_set::{describe, Bands, Flips};
 use crate::interface::reassociate::{clip_tributaries, tributary_rates};
 use crate::interface::rows::InterfaceRows;
 use crate::interface::NormalState;
+use crate::linsol::condensed::CondensedError;
 use crate::linsol::Failure;
 use crate::model::{ReassociationRule, Scheme};
 use std::time::Instant;
@@ -558,8 +559,8 @@ fn finish_interface(
     let Context { condensed, system: linear_system, .. } = &mut *cx;
     let Some(c) = condensed.as_mut() else { return Ok(()) };
     deferred.finish(c, &mut linear_system.stats, dofs, state).map_err(|e| match e {
-        Failure::Other(e) => IncrementError::Solve(e),
-        Failure::Singular { .. } => IncrementError::Solve(crate::error::SolveError::Backend {
+        CondensedError::Backend(e) => IncrementError::Solve(e),
+        CondensedError::Fallback(_) => IncrementError::Solve(crate::error::SolveError::Backend {
             backend: c.backend().name(),
             message: "the interior could not follow the interface's movement".into(),
         }),

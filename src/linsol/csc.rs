@@ -221,19 +221,23 @@ impl PatternCache {
     /// Turn triplets into a matrix. Returns the matrix and whether the pattern is new.
     pub fn assemble(&mut self, n: usize, t: &Triplets) -> (CscMatrix, bool) {
         let same = self.refills(n, t);
-        if !same {
-            // the old pattern's arrays go before the new ones are made
-            *self = PatternCache { builds: self.builds + 1, ..PatternCache::default() };
-            let (pattern, map) = CscPattern::from_triplets(n, &t.rows, &t.cols);
-            self.entry_col = vec![0; pattern.nnz()];
-            for j in 0..n {
-                self.entry_col[pattern.col_ptr[j]..pattern.col_ptr[j + 1]].fill(j as u32);
+        let pattern = match self.pattern.clone() {
+            Some(pattern) if same => pattern,
+            _ => {
+                // the old pattern's arrays go before the new ones are made
+                *self = PatternCache { builds: self.builds + 1, ..PatternCache::default() };
+                let (pattern, map) = CscPattern::from_triplets(n, &t.rows, &t.cols);
+                self.entry_col = vec![0; pattern.nnz()];
+                for j in 0..n {
+                    self.entry_col[pattern.col_ptr[j]..pattern.col_ptr[j + 1]].fill(j as u32);
+                }
+                let pattern = Arc::new(pattern);
+                self.pattern = Some(pattern.clone());
+                self.map = map;
+                self.n = n;
+                pattern
             }
-            self.pattern = Some(Arc::new(pattern));
-            self.map = map;
-            self.n = n;
-        }
-        let pattern = self.pattern.clone().expect("pattern was just built");
+        };
         let mut values = vec![0.0; pattern.nnz()];
         for (&k, v) in self.map.iter().zip(&t.values) {
             values[k as usize] += v;

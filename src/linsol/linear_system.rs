@@ -3,6 +3,7 @@
 //! solution's residual with iterative refinement, and the counts and times the run summary reports.
 
 use super::csc::{CscMatrix, PatternCache, Triplets};
+use super::refine::{accepted, refine, Refinable};
 use super::{Backend, Failure, LinearSolver};
 use crate::error::SolveError;
 use std::time::Instant;
@@ -148,39 +149,45 @@ impl LinearSystem {
             }));
         };
         let t = Instant::now();
-        let mut x = self.solver.solve(rhs)?;
+        let x = self.solver.solve(rhs)?;
         self.stats.solve_seconds += t.elapsed().as_secs_f64();
         self.stats.solves += 1;
-        let t = Instant::now();
-        let mut residual = super::relative_residual(matrix, &x, rhs);
-        // Iterative refinement (at most two corrections) when pivoting on the saddle point left more
-        // than 1e-10 in the residual (the outer iteration corrects anything smaller).
-        for _ in 0..2 {
-            if !(residual > 1e-10) || !x.iter().all(|v| v.is_finite()) {
-                break;
-            }
-            let ax = matrix.mul_vec(&x);
-            let r: Vec<f64> = rhs.iter().zip(&ax).map(|(b, a)| b - a).collect();
-            let s = Instant::now();
-            let dx = self.solver.solve(&r)?;
-            self.stats.solve_seconds += s.elapsed().as_secs_f64();
-            self.stats.solves += 1;
-            let refined: Vec<f64> = x.iter().zip(&dx).map(|(a, b)| a + b).collect();
-            let refined_residual = super::relative_residual(matrix, &refined, rhs);
-            if refined_residual < residual {
-                x = refined;
-                residual = refined_residual;
-            } else {
-                break;
-            }
-        }
         // the residual checks are geoslip's own work, counted apart from the backend's solves
+        // (the refinement's correcting solves are counted as solves too)
+        let t = Instant::now();
+        let mut full = FullSystem { solver: self.solver.as_mut(), matrix, stats: &mut self.stats };
+        let (x, residual) = refine(&mut full, x, rhs)?;
         self.stats.check_seconds += t.elapsed().as_secs_f64();
-        if !x.iter().all(|v| v.is_finite()) || !(residual < 1e-6) {
-            // A numerically singular matrix: LU divides by a (near) zero pivot.
+        if !accepted(&x, residual) {
+            // A numerically singular matrix: LU divides by a (near) zero pivot. The backend named
+            // no pivots: the analysis finds them (`analysis::singular`).
             return Err(Failure::Singular { equations: Vec::new() });
         }
         self.stats.max_relative_residual = self.stats.max_relative_residual.max(residual);
         Ok((x, residual))
+    }
+}
+
+/// The full system as [`refine`] sees it: its matrix and the backend's factorisation of it.
+struct FullSystem<'a> {
+    solver: &'a mut dyn LinearSolver,
+    matrix: &'a CscMatrix,
+    stats: &'a mut SolverStats,
+}
+
+impl Refinable for FullSystem<'_> {
+    type Error = Failure;
+
+    fn residual(&self, x: &[f64], rhs: &[f64]) -> Vec<f64> {
+        let ax = self.matrix.mul_vec(x);
+        rhs.iter().zip(&ax).map(|(b, a)| b - a).collect()
+    }
+
+    fn correct(&mut self, r: &[f64]) -> Result<Vec<f64>, Failure> {
+        let t = Instant::now();
+        let dx = self.solver.solve(r)?;
+        self.stats.solve_seconds += t.elapsed().as_secs_f64();
+        self.stats.solves += 1;
+        Ok(dx)
     }
 }

@@ -3,18 +3,14 @@
 //! The symbolic analysis (`analyse`) is done once per sparsity pattern and reused; the numeric
 //! factorisation (`factorize`) once per set of values; `solve` once per right-hand side.
 
-pub mod block_lu;
 pub mod condensed;
-pub mod coupled_kept;
 pub mod csc;
 pub mod dense_ref;
-pub mod dense_update;
 pub mod faer_lu;
-pub mod kept_matrix;
 pub mod linear_system;
 #[allow(unsafe_code)]
 pub mod native;
-pub mod schur;
+mod refine;
 
 #[cfg(all(geoslip_mumps, feature = "mpi"))]
 pub use native::cluster;
@@ -198,19 +194,6 @@ pub fn make(backend: Backend, symmetric: bool, options: &SolverOptions) -> Resul
         #[cfg(geoslip_umfpack)]
         Backend::Umfpack => Ok(Box::new(native::umfpack::Umfpack::default())),
         other => Err(unavailable(other)),
-    }
-}
-
-/// A condensing backend for `backend`: MUMPS's own Schur complement where MUMPS is built in (the
-/// sequential build), block elimination over the backend's factorisation otherwise.
-///
-/// # Errors
-/// The backend's own error when it cannot be started.
-pub fn make_condensing(backend: Backend, options: &SolverOptions) -> Result<Box<dyn schur::Condensing>, SolveError> {
-    match backend.resolve() {
-        #[cfg(all(geoslip_mumps, not(feature = "mpi")))]
-        Backend::Mumps => Ok(Box::new(native::mumps::Mumps::new(true, options)?)),
-        other => Ok(Box::new(schur::BlockElimination::new(make(other, false, options)?))),
     }
 }
 

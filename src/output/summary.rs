@@ -1,7 +1,7 @@
 //! `summary.json`: what a run was, how it went and where its results are.
 
-use crate::analysis::StepRecord;
 use crate::analysis::SolverStats;
+use crate::analysis::StepRecord;
 use crate::model::file::Direction;
 
 /// The peak reaction of one prescribed target (a pull-out force, a footing load).

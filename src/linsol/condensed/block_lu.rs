@@ -1,7 +1,7 @@
-//! The factorisation of the kept system M = F + C with its sparse unknowns eliminated first.
+//! The factorisation of the kept system M = S + C with its sparse unknowns eliminated first.
 //!
-//! F, the soil's Schur complement, is dense among the soil's interface unknowns only: a bar's
-//! unknowns meet F in the few entries of its own stiffness, a multiplier in none. C couples each of
+//! S, the soil's Schur complement, is dense among the soil's interface unknowns only: a bar's
+//! unknowns meet S in the few entries of its own stiffness, a multiplier in none. C couples each of
 //! them to a few others. Ordered so, the coupled unknowns split into R, whose rows and columns of M
 //! are sparse, and D, the rest:
 //!
@@ -98,7 +98,7 @@ impl BlockLu {
         for j in 0..m {
             let d = diagonal(j);
             // (a zero diagonal stays with the factors, whose pivoting meets it)
-            if matrix.fixed.in_fixed(j) || coupled_by_change[j] || d == 0.0 {
+            if matrix.schur.in_schur(j) || coupled_by_change[j] || d == 0.0 {
                 coupled.push(j);
             } else {
                 self.decoupled.push((j, d));
@@ -146,7 +146,7 @@ impl BlockLu {
                 (r, s) if r != NONE && s != NONE => within.push(Triplet::new(r, s, v)),
                 _ => {}
             };
-            for &(i, j, v) in matrix.fixed.sparse_entries() {
+            for &(i, j, v) in matrix.schur.sparse_entries() {
                 sort(i, j, v);
             }
             for j in 0..m {
@@ -166,7 +166,7 @@ impl BlockLu {
                 w_t[(r, q)] += v;
             }
             lu.solve_transpose_in_place(w_t.as_mut());
-            let w = transposed(w_t.as_ref());
+            let w = transposed(&w_t);
             drop(w_t);
             if !w.iter().all(|v| v.is_finite()) {
                 return false;
@@ -175,7 +175,7 @@ impl BlockLu {
                 self.sparse_by_dense.iter().map(|&(r, q, v)| (q, r, v)).collect();
             by_column.sort_unstable_by_key(|e| (e.0, e.1));
             for &(q, r, v) in &by_column {
-                let tq = self.factors.col_mut(q).try_as_col_major_mut().expect("a column of a Mat").as_slice_mut();
+                let tq = self.factors.col_as_slice_mut(q);
                 let wr = &w[r * d..(r + 1) * d];
                 for (t, &x) in tq.iter_mut().zip(wr) {
                     *t -= v * x;
@@ -299,14 +299,14 @@ impl faer::matrix_free::Precond<f64> for BlockLu {}
 
 /// The transpose of `a` (column-major) as a column-major array: column r of the result is row r of
 /// `a`. By blocks, so that both sides stay in the cache.
-fn transposed(a: MatRef<'_, f64>) -> Vec<f64> {
+fn transposed(a: &Mat<f64>) -> Vec<f64> {
     const BLOCK: usize = 32;
     let (rows, columns) = (a.nrows(), a.ncols());
     let mut out = vec![0.0; rows * columns];
     for c0 in (0..columns).step_by(BLOCK) {
         for r0 in (0..rows).step_by(BLOCK) {
             for c in c0..(c0 + BLOCK).min(columns) {
-                let column = a.col(c).try_as_col_major().expect("a column of a Mat").as_slice();
+                let column = a.col_as_slice(c);
                 for r in r0..(r0 + BLOCK).min(rows) {
                     out[r * columns + c] = column[r];
                 }
@@ -316,21 +316,21 @@ fn transposed(a: MatRef<'_, f64>) -> Vec<f64> {
     out
 }
 
-/// R: the coupled unknowns whose rows and columns of F are sparse, less those that would make A_RR
+/// R: the coupled unknowns whose rows and columns of S are sparse, less those that would make A_RR
 /// singular: an unknown with a zero diagonal whose column in R is parallel to that of one taken
 /// before it (the second face's row on a bar node), and an unknown with nothing in R.
 fn eliminable(matrix: KeptMatrix, coupled: &[usize]) -> Vec<usize> {
     let m = matrix.order();
     let candidate: Vec<bool> = {
         let mut c = vec![false; m];
-        for &j in coupled.iter().filter(|&&j| matrix.fixed.is_sparse(j)) {
+        for &j in coupled.iter().filter(|&&j| matrix.schur.is_sparse(j)) {
             c[j] = true;
         }
         c
     };
-    // the candidates' columns among the candidates, F's part and C's
+    // the candidates' columns among the candidates, S's part and C's
     let mut columns: HashMap<usize, Vec<(usize, f64)>> = HashMap::new();
-    for &(i, j, v) in matrix.fixed.sparse_entries() {
+    for &(i, j, v) in matrix.schur.sparse_entries() {
         if candidate[i] && candidate[j] {
             columns.entry(j).or_default().push((i, v));
         }
@@ -381,10 +381,10 @@ fn eliminable(matrix: KeptMatrix, coupled: &[usize]) -> Vec<usize> {
 mod tests {
     //! The block factorisation of a kept system shaped as an interface's: a dense soil part, a bar
     //! chain, two faces' rows on each bar node.
+    use super::super::kept_matrix::{SoilSchur, SparseColumns};
     use super::*;
-    use crate::linsol::kept_matrix::{FixedPart, SparseColumns};
 
-    /// F: a dense symmetric soil block on the first `soil` unknowns, then a bar of `nodes` nodes at
+    /// S: a dense symmetric soil block on the first `soil` unknowns, then a bar of `nodes` nodes at
     /// `angle` to the x axis (two unknowns each, x and y: a chain stiffness along the bar, none
     /// across it), then the two faces' multipliers (one per node and face). C: each multiplier's row
     /// on its bar node's displacement across the bar and on a soil unknown, and a spring between
@@ -455,8 +455,8 @@ mod tests {
         let (soil, nodes) = (24, 10);
         let (f, c) = interface(soil, nodes, angle);
         let change = SparseColumns::from_entries(f.nrows(), c.iter().copied());
-        let fixed = FixedPart::from_dense(f.as_ref());
-        let lu = BlockLu::of(KeptMatrix { fixed: &fixed, change: &change });
+        let schur = SoilSchur::from_dense(f.as_ref());
+        let lu = BlockLu::of(KeptMatrix { schur: &schur, change: &change });
         // the bar's two unknowns and the first face's row a node are eliminated sparsely; the
         // second face's row (parallel on the bar) stays with the soil in T
         assert_eq!(lu.sparse.len(), 3 * nodes, "at {angle} rad, R: {:?}", lu.sparse);
@@ -469,7 +469,7 @@ mod tests {
 
     #[test]
     fn a_singular_sparse_block_falls_back_to_one_dense_factorisation() {
-        // two unknowns outside F whose block of C is [1 1; 1 1] (singular, both diagonals nonzero:
+        // two unknowns outside S whose block of C is [1 1; 1 1] (singular, both diagonals nonzero:
         // nothing picks them out before the factorisation), the first tied to the soil: M is
         // regular, A_RR is not
         let soil = 20;
@@ -479,8 +479,8 @@ mod tests {
         let (a, b) = (soil, soil + 1);
         let c = vec![(a, a, 1.0), (a, b, 1.0), (b, a, 1.0), (b, b, 1.0), (a, 0, 1.0), (0, a, 1.0)];
         let change = SparseColumns::from_entries(f2.nrows(), c.iter().copied());
-        let fixed = FixedPart::from_dense(f2.as_ref());
-        let lu = BlockLu::of(KeptMatrix { fixed: &fixed, change: &change });
+        let schur = SoilSchur::from_dense(f2.as_ref());
+        let lu = BlockLu::of(KeptMatrix { schur: &schur, change: &change });
         assert_eq!((lu.sparse.len(), lu.dense_order()), (0, soil + 2), "one dense factorisation of all");
         let rhs = Mat::from_fn(f2.nrows(), 1, |i, _| 1.0 + i as f64);
         let x = lu.solve(&rhs);

@@ -24,10 +24,12 @@
 //! fingerprint that matched a different matrix would be caught by the first solve's residual,
 //! which is checked against the whole L + C: see `condensed.rs`.)
 
-use super::csc::CscMatrix;
-use super::kept_matrix::FixedPart;
-use super::schur::Condensing;
-use super::Failure;
+use super::elimination::Condensing;
+use super::kept::KeptUnknowns;
+use super::kept_matrix::SoilSchur;
+use crate::linsol::csc::CscMatrix;
+use crate::linsol::Failure;
+use std::rc::Rc;
 
 const NONE: usize = usize::MAX;
 
@@ -39,8 +41,8 @@ pub struct CoupledKept {
     /// Positions among the kept unknowns of K₁ and K₂.
     coupled: Vec<usize>,
     apart: Vec<usize>,
-    /// The kept equations (as in the condensation's `kept`).
-    kept: Vec<usize>,
+    /// The kept unknowns (as in the condensation's `kept`).
+    kept: Rc<KeptUnknowns>,
     /// The fingerprint of the reduced L and K₁ in it, as handed to the backend.
     fingerprint: u64,
 }
@@ -63,7 +65,7 @@ fn schur_block(
     condensing: &mut dyn Condensing,
     matrix: &CscMatrix,
     schur_unknowns: &[usize],
-    last: Option<(FixedPart, CoupledKept)>,
+    last: Option<(SoilSchur, CoupledKept)>,
 ) -> Result<(Vec<f64>, u64, bool), Failure> {
     let key = fingerprint(matrix, schur_unknowns);
     if let Some((schur, coupled)) = last.filter(|(_, c)| c.fingerprint == key) {
@@ -73,7 +75,7 @@ fn schur_block(
 }
 
 impl CoupledKept {
-    /// Condense `matrix` onto `kept` (sorted equations) with `condensing`: S as a [`FixedPart`],
+    /// Condense `matrix` onto `kept` (sorted equations) with `condensing`: S as a [`SoilSchur`],
     /// the reduction the right-hand sides and solutions go through, and whether the backend's
     /// factorisation was the one `last` (the last condensation with this backend, if any) was
     /// made with, its reduced L being the same.
@@ -83,22 +85,18 @@ impl CoupledKept {
     pub fn condense_onto(
         condensing: &mut dyn Condensing,
         matrix: &CscMatrix,
-        kept: &[usize],
-        last: Option<(FixedPart, CoupledKept)>,
-    ) -> Result<(FixedPart, CoupledKept, bool), Failure> {
+        kept: &Rc<KeptUnknowns>,
+        last: Option<(SoilSchur, CoupledKept)>,
+    ) -> Result<(SoilSchur, CoupledKept, bool), Failure> {
         let n = matrix.pattern.n();
-        let mut position = vec![NONE; n];
-        for (k, &e) in kept.iter().enumerate() {
-            position[e] = k;
-        }
+        let position = |e: usize| kept.position(e);
         // which kept unknowns L couples to the interior
         let (col_ptr, row_idx) = (matrix.pattern.col_ptr(), matrix.pattern.row_idx());
         let mut reached = vec![false; kept.len()];
         for j in 0..n {
             for &i in &row_idx[col_ptr[j]..col_ptr[j + 1]] {
-                match (position[i], position[j]) {
-                    (NONE, NONE) => {}
-                    (p, NONE) | (NONE, p) => reached[p] = true,
+                match (position(i), position(j)) {
+                    (Some(p), None) | (None, Some(p)) => reached[p] = true,
                     _ => {}
                 }
             }
@@ -107,22 +105,22 @@ impl CoupledKept {
         let apart: Vec<usize> = (0..kept.len()).filter(|&k| !reached[k]).collect();
         if coupled.is_empty() || apart.is_empty() {
             // nothing to leave out (or nothing the interior reaches): L condensed as it is
-            let (s, fingerprint, reused) = schur_block(condensing, matrix, kept, last)?;
-            let fixed = FixedPart::from_row_major(kept.len(), &s);
+            let (s, fingerprint, reused) = schur_block(condensing, matrix, kept.equations(), last)?;
+            let schur = SoilSchur::from_row_major(kept.len(), &s);
             let whole = CoupledKept {
                 reduced_of: (0..n).collect(),
                 reduced_n: n,
                 coupled: (0..kept.len()).collect(),
                 apart: Vec::new(),
-                kept: kept.to_vec(),
+                kept: kept.clone(),
                 fingerprint,
             };
-            return Ok((fixed, whole, reused));
+            return Ok((schur, whole, reused));
         }
         let mut reduced_of = vec![NONE; n];
         let mut reduced_n = 0;
         for (e, r) in reduced_of.iter_mut().enumerate() {
-            if position[e] == NONE || reached[position[e]] {
+            if position(e).is_none_or(|p| reached[p]) {
                 *r = reduced_n;
                 reduced_n += 1;
             }
@@ -132,21 +130,18 @@ impl CoupledKept {
         let new_index: Vec<Option<usize>> = reduced_of.iter().map(|&r| (r != NONE).then_some(r)).collect();
         let (reduced_matrix, left_out) = matrix.principal_submatrix(&new_index, reduced_n);
         drop(new_index);
+        let in_kept = |e: usize| kept.position(e).unwrap_or(usize::MAX);
         let entries: Vec<(usize, usize, f64)> =
-            left_out.into_iter().map(|(i, j, v)| (position[i], position[j], v)).collect();
-        let reduced_kept: Vec<usize> = coupled.iter().map(|&k| reduced_of[kept[k]]).collect();
+            left_out.into_iter().map(|(i, j, v)| (in_kept(i), in_kept(j), v)).collect();
+        let reduced_kept: Vec<usize> = coupled.iter().map(|&k| reduced_of[kept.equations()[k]]).collect();
         let (s11, fingerprint, reused) = schur_block(condensing, &reduced_matrix, &reduced_kept, last)?;
         drop(reduced_matrix);
-        let fixed = FixedPart::from_blocks(kept.len(), &coupled, &s11, entries);
-        Ok((fixed, CoupledKept { reduced_of, reduced_n, coupled, apart, kept: kept.to_vec(), fingerprint }, reused))
-    }
-
-    /// The kept equations, sorted.
-    pub fn kept(&self) -> &[usize] {
-        &self.kept
+        let schur = SoilSchur::from_blocks(kept.len(), &coupled, &s11, entries);
+        Ok((schur, CoupledKept { reduced_of, reduced_n, coupled, apart, kept: kept.clone(), fingerprint }, reused))
     }
 
     /// The kept unknowns the interior reaches (K₁) and the others (K₂).
+    #[cfg(test)]
     pub fn counts(&self) -> (usize, usize) {
         (self.coupled.len(), self.apart.len())
     }
@@ -172,7 +167,7 @@ impl CoupledKept {
             out[k] = r1[a];
         }
         for &k in &self.apart {
-            out[k] = rhs[self.kept[k]];
+            out[k] = rhs[self.kept.equations()[k]];
         }
         Ok(out)
     }
@@ -196,7 +191,7 @@ impl CoupledKept {
             }
         }
         for &k in &self.apart {
-            x[self.kept[k]] = kept_solution[k];
+            x[self.kept.equations()[k]] = kept_solution[k];
         }
         Ok(x)
     }
@@ -207,9 +202,10 @@ mod tests {
     //! The condensation through K₁ alone against the dense definition S = L_KK − L_KI L_II⁻¹ L_IK on
     //! every backend: a chain of springs (the soil), a bar of two unknowns tied to one kept soil
     //! unknown and not to the interior, and a multiplier with nothing in L.
+    use super::super::elimination::make_condensing;
     use super::*;
     use crate::linsol::csc::{PatternCache, Triplets};
-    use crate::linsol::{make_condensing, Backend, SolverOptions};
+    use crate::linsol::{Backend, SolverOptions};
     use faer::linalg::solvers::Solve;
     use faer::Mat;
 
@@ -244,6 +240,11 @@ mod tests {
     }
 
     /// S = L_KK − L_KI L_II⁻¹ L_IK by Gauss elimination of the interior (faer's dense LU).
+    /// `kept` as the kept unknowns of `a`.
+    fn of(a: &CscMatrix, kept: &[usize]) -> Rc<KeptUnknowns> {
+        Rc::new(KeptUnknowns::new(a.pattern.n(), kept.to_vec()))
+    }
+
     fn definition(a: &CscMatrix, kept: &[usize]) -> Mat<f64> {
         let n = a.pattern.n();
         let m = kept.len();
@@ -257,7 +258,7 @@ mod tests {
         })
     }
 
-    fn assert_equal(s: &FixedPart, expected: &Mat<f64>, what: &str) {
+    fn assert_equal(s: &SoilSchur, expected: &Mat<f64>, what: &str) {
         let m = expected.nrows();
         let s = s.times(Mat::<f64>::identity(m, m).as_ref());
         for p in 0..m {
@@ -278,20 +279,28 @@ mod tests {
         let (stiffer, _) = model_with(false, 4.5);
         for backend in Backend::available() {
             let mut condensing = make_condensing(backend, &SolverOptions::default()).expect("backend starts");
-            let first = CoupledKept::condense_onto(condensing.as_mut(), &a, &kept, None).expect("condensed");
-            let (fixed, coupled, reused) =
-                CoupledKept::condense_onto(condensing.as_mut(), &shorter, &shorter_kept, Some((first.0, first.1)))
-                    .expect("condensed");
+            let first = CoupledKept::condense_onto(condensing.as_mut(), &a, &of(&a, &kept), None).expect("condensed");
+            let (schur, coupled, reused) = CoupledKept::condense_onto(
+                condensing.as_mut(),
+                &shorter,
+                &of(&shorter, &shorter_kept),
+                Some((first.0, first.1)),
+            )
+            .expect("condensed");
             assert!(reused, "{}: the same reduced L", backend.name());
-            assert_equal(&fixed, &definition(&shorter, &shorter_kept), backend.name());
+            assert_equal(&schur, &definition(&shorter, &shorter_kept), backend.name());
             // and a whole solve through the reused factorisation
             let expected = definition(&shorter, &shorter_kept);
             assert_whole_solve(condensing.as_mut(), &coupled, &shorter, &expected, backend.name());
-            let (fixed, _, reused) =
-                CoupledKept::condense_onto(condensing.as_mut(), &stiffer, &shorter_kept, Some((fixed, coupled)))
-                    .expect("condensed");
+            let (schur, _, reused) = CoupledKept::condense_onto(
+                condensing.as_mut(),
+                &stiffer,
+                &of(&stiffer, &shorter_kept),
+                Some((schur, coupled)),
+            )
+            .expect("condensed");
             assert!(!reused, "{}: a different soil is factorised", backend.name());
-            assert_equal(&fixed, &definition(&stiffer, &shorter_kept), backend.name());
+            assert_equal(&schur, &definition(&stiffer, &shorter_kept), backend.name());
         }
     }
 
@@ -301,11 +310,11 @@ mod tests {
         let expected = definition(&a, &kept);
         for backend in Backend::available() {
             let mut condensing = make_condensing(backend, &SolverOptions::default()).expect("backend starts");
-            let (fixed, coupled, reused) =
-                CoupledKept::condense_onto(condensing.as_mut(), &a, &kept, None).expect("condensed");
+            let (schur, coupled, reused) =
+                CoupledKept::condense_onto(condensing.as_mut(), &a, &of(&a, &kept), None).expect("condensed");
             assert!(!reused);
             assert_eq!(coupled.counts(), (5, 3), "{}: the bar and the multiplier are left out", backend.name());
-            assert_equal(&fixed, &expected, backend.name());
+            assert_equal(&schur, &expected, backend.name());
             assert_whole_solve(condensing.as_mut(), &coupled, &a, &expected, backend.name());
         }
     }

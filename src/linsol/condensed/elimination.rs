@@ -13,8 +13,9 @@
 //! forward and one backward pass (ICNTL(26)); every other backend gets [`BlockElimination`]: A_II
 //! factorised by the backend itself and S built one column of A_IK at a time.
 
-use super::csc::{CscMatrix, PatternCache, Triplets};
-use super::{Backend, Failure, LinearSolver};
+use crate::error::SolveError;
+use crate::linsol::csc::{CscMatrix, PatternCache, Triplets};
+use crate::linsol::{make, Backend, Failure, LinearSolver, SolverOptions};
 
 /// A backend that condenses a matrix onto kept unknowns.
 pub trait Condensing {
@@ -183,12 +184,24 @@ fn split(place: &[Place], interior: usize, kept: usize, rhs: &[f64]) -> (Vec<f64
     (r_interior, r_kept)
 }
 
+/// A condensing backend for `backend`: MUMPS's own Schur complement where MUMPS is built in (the
+/// sequential build), block elimination over the backend's factorisation otherwise.
+///
+/// # Errors
+/// The backend's own error when it cannot be started.
+pub(super) fn make_condensing(backend: Backend, options: &SolverOptions) -> Result<Box<dyn Condensing>, SolveError> {
+    match backend.resolve() {
+        #[cfg(all(geoslip_mumps, not(feature = "mpi")))]
+        Backend::Mumps => Ok(Box::new(crate::linsol::native::mumps::Mumps::new(true, options)?)),
+        other => Ok(Box::new(BlockElimination::new(make(other, false, options)?))),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     //! The Schur complement, condensation and expansion of every backend against the dense
     //! definition S = A_KK − A_KI A_II⁻¹ A_IK computed here by Gauss elimination.
     use super::*;
-    use crate::linsol::SolverOptions;
 
     /// A symmetric positive definite banded matrix (a chain of springs to ground), with the kept
     /// unknowns spread through it.
@@ -270,7 +283,7 @@ mod tests {
     #[test]
     fn every_backend_condenses_to_the_dense_schur_complement() {
         for backend in Backend::available() {
-            check(super::super::make_condensing(backend, &SolverOptions::default()).expect("backend starts"));
+            check(make_condensing(backend, &SolverOptions::default()).expect("backend starts"));
         }
     }
 
@@ -278,7 +291,7 @@ mod tests {
     fn block_elimination_with_no_interior_keeps_the_matrix() {
         let (a, _) = chain(6);
         let kept: Vec<usize> = (0..6).collect();
-        let mut b = BlockElimination::new(super::super::make(Backend::Faer, false, &SolverOptions::default()).unwrap());
+        let mut b = BlockElimination::new(make(Backend::Faer, false, &SolverOptions::default()).unwrap());
         let s = b.factorize_condensed(&a, &kept).unwrap();
         let dense = a.to_dense();
         for i in 0..6 {

@@ -1,49 +1,49 @@
-//! The interface's kept system as a fixed dense part and a changing sparse part, M = F + C.
+//! The interface's kept system as the soil's Schur complement and a changing sparse part, M = S + C.
 //!
-//! F is the soil's Schur complement on the kept unknowns (fixed while the soil is), C the
+//! S is the soil's Schur complement on the kept unknowns (fixed while the soil is), C the
 //! interface's springs and rows (a few entries a point, new in every iteration under large slip).
 //! C is held by columns, so that which columns changed is found on C alone, and products with M
-//! are F·x + C·x: no m × m array of M itself is ever formed. F is held as its dense block on the
+//! are S·x + C·x: no m × m array of M itself is ever formed. S is held as its dense block on the
 //! unknowns where it is dense (the soil's) and its few entries elsewhere (the bars' stiffness): of
-//! the pull-out box's 2280 kept unknowns at 10⁵, F is dense on 1016, a fifth of the m × m array.
+//! the pull-out box's 2280 kept unknowns at 10⁵, S is dense on 1016, a fifth of the m × m array.
 
-use super::csc::bucket_by_column;
+use crate::linsol::csc::bucket_by_column;
 use faer::dyn_stack::MemStack;
 use faer::reborrow::ReborrowMut;
 use faer::{Mat, MatMut, MatRef};
 
-/// The entries a row and a column of F may hold and still be held apart from F's dense block (a
+/// The entries a row and a column of S may hold and still be held apart from S's dense block (a
 /// bar node's own stiffness: its two unknowns and its neighbours').
 pub const SPARSE_ROW: usize = 16;
 
 const NONE: usize = usize::MAX;
 
-/// The fixed part F of a matrix F + C: a dense block on the unknowns whose row or column of F holds
-/// more than [`SPARSE_ROW`] entries, and F's nonzero entries outside it.
+/// The soil's Schur complement S in a matrix S + C: a dense block on the unknowns whose row or column of S holds
+/// more than [`SPARSE_ROW`] entries, and S's nonzero entries outside it.
 #[derive(Debug, Clone)]
-pub struct FixedPart {
+pub struct SoilSchur {
     order: usize,
     /// The unknowns of the dense block, increasing.
     dense: Vec<usize>,
     /// Each unknown's position among `dense`, or NONE.
     position: Vec<usize>,
-    /// F on `dense` × `dense`.
+    /// S on `dense` × `dense`.
     block: Mat<f64>,
-    /// F's nonzero entries (i, j, value) with i or j outside `dense`.
+    /// S's nonzero entries (i, j, value) with i or j outside `dense`.
     entries: Vec<(usize, usize, f64)>,
-    /// Whether F has anything in row or column j.
+    /// Whether S has anything in row or column j.
     in_fixed: Vec<bool>,
 }
 
-impl FixedPart {
-    /// F of order `order` from its entries by rows.
-    pub fn from_row_major(order: usize, values: &[f64]) -> FixedPart {
+impl SoilSchur {
+    /// S of order `order` from its entries by rows.
+    pub fn from_row_major(order: usize, values: &[f64]) -> SoilSchur {
         let all: Vec<usize> = (0..order).collect();
-        FixedPart::from_blocks(order, &all, values, Vec::new())
+        SoilSchur::from_blocks(order, &all, values, Vec::new())
     }
 
-    /// F on the rows and columns `positions` (of its unknowns), by rows: the `coupled_block` it
-    /// was made from ([`FixedPart::from_blocks`]) when `positions` are those `coupled`.
+    /// S on the rows and columns `positions` (of its unknowns), by rows: the `coupled_block` it
+    /// was made from ([`SoilSchur::from_blocks`]) when `positions` are those `coupled`.
     pub fn principal(&self, positions: &[usize]) -> Vec<f64> {
         let k = positions.len();
         let mut at = vec![NONE; self.order];
@@ -69,15 +69,16 @@ impl FixedPart {
         out
     }
 
-    /// F from a dense matrix.
-    pub fn from_dense(f: MatRef<'_, f64>) -> FixedPart {
-        assert_eq!(f.nrows(), f.ncols(), "F is square");
+    /// S from a dense matrix.
+    #[cfg(test)]
+    pub fn from_dense(f: MatRef<'_, f64>) -> SoilSchur {
+        assert_eq!(f.nrows(), f.ncols(), "S is square");
         let m = f.nrows();
         let values: Vec<f64> = (0..m * m).map(|k| f[(k / m, k % m)]).collect();
-        FixedPart::from_row_major(m, &values)
+        SoilSchur::from_row_major(m, &values)
     }
 
-    /// F of order `order` from its dense part `coupled_block` (row by row) on the unknowns
+    /// S of order `order` from its dense part `coupled_block` (row by row) on the unknowns
     /// `coupled` (increasing) and its entries elsewhere (`entries`: (i, j, value), each in a row or
     /// column outside `coupled`).
     pub fn from_blocks(
@@ -85,7 +86,7 @@ impl FixedPart {
         coupled: &[usize],
         coupled_block: &[f64],
         entries: Vec<(usize, usize, f64)>,
-    ) -> FixedPart {
+    ) -> SoilSchur {
         let k = coupled.len();
         assert_eq!(coupled_block.len(), k * k, "the coupled block is k × k");
         let (mut in_row, mut in_column) = (vec![0usize; order], vec![0usize; order]);
@@ -128,29 +129,29 @@ impl FixedPart {
             place(i, j, v);
         }
         let in_fixed = (0..order).map(|j| in_row[j] > 0 || in_column[j] > 0).collect();
-        FixedPart { order, dense, position, block, entries: outside, in_fixed }
+        SoilSchur { order, dense, position, block, entries: outside, in_fixed }
     }
 
     pub fn order(&self) -> usize {
         self.order
     }
 
-    /// Whether F has anything in row or column j.
-    pub fn in_fixed(&self, j: usize) -> bool {
+    /// Whether S has anything in row or column j.
+    pub fn in_schur(&self, j: usize) -> bool {
         self.in_fixed[j]
     }
 
-    /// Whether unknown j lies outside F's dense block (its row and column of F are sparse).
+    /// Whether unknown j lies outside S's dense block (its row and column of S are sparse).
     pub fn is_sparse(&self, j: usize) -> bool {
         self.position[j] == NONE
     }
 
-    /// F's nonzero entries outside its dense block.
+    /// S's nonzero entries outside its dense block.
     pub fn sparse_entries(&self) -> &[(usize, usize, f64)] {
         &self.entries
     }
 
-    /// F·x.
+    /// S·x.
     pub fn times(&self, x: MatRef<'_, f64>) -> Mat<f64> {
         let columns = x.ncols();
         let mut out = Mat::zeros(self.order, columns);
@@ -169,7 +170,7 @@ impl FixedPart {
         out
     }
 
-    /// F on the unknowns `among` (increasing) into `out` (of their number).
+    /// S on the unknowns `among` (increasing) into `out` (of their number).
     fn write_into(&self, mut out: MatMut<'_, f64>, among: &[usize]) {
         out.fill(0.0);
         // the members of the dense block: (position in `among`, position in the block)
@@ -201,7 +202,7 @@ impl FixedPart {
     }
 }
 
-/// The sparse part C of a matrix F + C, by columns: entries of one position summed, rows in
+/// The sparse part C of a matrix S + C, by columns: entries of one position summed, rows in
 /// increasing order within a column.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct SparseColumns {
@@ -227,12 +228,13 @@ impl SparseColumns {
             column.sort_by_key(|&(i, _)| i);
             let mut last = None;
             for &(i, v) in column.iter() {
-                if last == Some(i) {
-                    *values.last_mut().expect("the entry before") += v;
-                } else {
-                    rows.push(i);
-                    values.push(v);
-                    last = Some(i);
+                match values.last_mut() {
+                    Some(sum) if last == Some(i) => *sum += v,
+                    _ => {
+                        rows.push(i);
+                        values.push(v);
+                        last = Some(i);
+                    }
                 }
             }
             col_ptr[j + 1] = rows.len();
@@ -279,29 +281,29 @@ impl SparseColumns {
     }
 }
 
-/// The matrix F + C as an operator: F·x + C·x.
+/// The matrix S + C as an operator: S·x + C·x.
 #[derive(Debug, Clone, Copy)]
 pub struct KeptMatrix<'a> {
-    pub fixed: &'a FixedPart,
+    pub schur: &'a SoilSchur,
     pub change: &'a SparseColumns,
 }
 
 impl KeptMatrix<'_> {
     /// The order of the matrix.
     pub fn order(&self) -> usize {
-        self.fixed.order()
+        self.schur.order()
     }
 
-    /// (F + C)·x.
+    /// (S + C)·x.
     pub fn times(&self, x: MatRef<'_, f64>) -> Mat<f64> {
-        let mut out = self.fixed.times(x);
+        let mut out = self.schur.times(x);
         self.change.add_times(x, out.as_mut());
         out
     }
 
-    /// F + C on the unknowns `among` (increasing), as a dense matrix into `out` (of their number).
+    /// S + C on the unknowns `among` (increasing), as a dense matrix into `out` (of their number).
     pub(super) fn write_into(&self, mut out: MatMut<'_, f64>, among: &[usize]) {
-        self.fixed.write_into(out.rb_mut(), among);
+        self.schur.write_into(out.rb_mut(), among);
         let mut position = vec![NONE; self.order()];
         for (p, &i) in among.iter().enumerate() {
             position[i] = p;

@@ -1,10 +1,10 @@
 //! A dense LU factorisation kept across small changes of its matrix.
 //!
-//! The matrix is M = F + C ([`super::kept_matrix`]): F dense and fixed (the soil's Schur
+//! The matrix is M = S + C ([`super::kept_matrix`]): S dense and fixed (the soil's Schur
 //! complement, held by the caller and passed in), C sparse and changing (the interface's springs
 //! and rows). Only the factors are held here ([`BlockLu`]: the bars' unknowns and one face's rows
 //! eliminated sparsely, a dense LU of the rest): which columns changed is found on C alone, and
-//! products with M are F·x + C·x.
+//! products with M are S·x + C·x.
 //!
 //! The condensed interface system changes a few columns at a time (a spring starts to slide, a row
 //! is released): refactorising it costs O(m³), while the change M = M₀ + D·E_Jᵀ, nonzero in the
@@ -24,7 +24,7 @@
 //! it iterates), or when a solve does not converge within [`MAX_ITERATIONS`].
 
 use super::block_lu::BlockLu;
-pub use super::kept_matrix::{FixedPart, KeptMatrix, SparseColumns};
+use super::kept_matrix::{KeptMatrix, SoilSchur, SparseColumns};
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::solvers::{PartialPivLu, Solve};
 use faer::{get_global_parallelism, Mat};
@@ -40,7 +40,7 @@ pub const MAX_ITERATIONS: usize = 6;
 /// 10⁵-unknown pull-out (docs/performance.md, 2280 kept unknowns, 2024 factorised densely): about
 /// 10 ms an iteration against 76 ms a factorisation, found from the dense phase's times of two
 /// Newton runs at two budgets. Since then both shrank by about the same factor (the dense LU is of
-/// 1265 unknowns and F's product of its 1016-unknown block): not measured again.
+/// 1265 unknowns and S's product of its 1016-unknown block): not measured again.
 pub const ITERATIONS_PER_FACTORISATION: usize = 8;
 
 /// The update of the base factorisation by the changed columns J.
@@ -53,7 +53,7 @@ struct LowRank {
 }
 
 pub struct UpdatedLu {
-    /// C₀: M₀ = F + C₀ is the matrix factorised.
+    /// C₀: M₀ = S + C₀ is the matrix factorised.
     base: SparseColumns,
     lu: BlockLu,
     /// The C now represented and its update, when it is not C₀.
@@ -74,9 +74,9 @@ pub struct UpdatedLu {
 }
 
 impl UpdatedLu {
-    /// Factorise F + `change`.
-    pub fn new(fixed: &FixedPart, change: SparseColumns) -> UpdatedLu {
-        let lu = BlockLu::of(KeptMatrix { fixed, change: &change });
+    /// Factorise S + `change`.
+    pub fn new(schur: &SoilSchur, change: SparseColumns) -> UpdatedLu {
+        let lu = BlockLu::of(KeptMatrix { schur, change: &change });
         UpdatedLu {
             base: change,
             lu,
@@ -100,11 +100,11 @@ impl UpdatedLu {
         }
     }
 
-    /// Represent F + `change` instead: by a low-rank update of the base factorisation where few
+    /// Represent S + `change` instead: by a low-rank update of the base factorisation where few
     /// columns differ from it, iteratively with the base factorisation as preconditioner otherwise
     /// (until that costs about a factorisation).
-    pub fn set(&mut self, fixed: &FixedPart, change: SparseColumns) {
-        let m = fixed.order();
+    pub fn set(&mut self, schur: &SoilSchur, change: SparseColumns) {
+        let m = schur.order();
         let columns: Vec<usize> = (0..m).filter(|&j| !change.same_column(&self.base, j)).collect();
         self.drifted = None;
         // the mean solves a matrix gets (the last matrices weigh most)
@@ -115,7 +115,7 @@ impl UpdatedLu {
             let predicted = self.solves_per_matrix * self.iterations_per_solve;
             let budget = ITERATIONS_PER_FACTORISATION as f64;
             if self.iterations_since as f64 >= budget || predicted >= budget {
-                self.refactorize(fixed, change);
+                self.refactorize(schur, change);
             } else {
                 self.drifted = Some(change);
             }
@@ -125,7 +125,7 @@ impl UpdatedLu {
             None
         } else {
             self.updates += 1;
-            // D = C − C₀ on the changed columns (F is the same in both)
+            // D = C − C₀ on the changed columns (S is the same in both)
             let mut d = Mat::zeros(m, columns.len());
             for (k, &j) in columns.iter().enumerate() {
                 let (rows, values) = change.column(j);
@@ -144,37 +144,35 @@ impl UpdatedLu {
         };
     }
 
-    /// Factorise F + `change` as the new M₀, in the old factors' array.
-    fn refactorize(&mut self, fixed: &FixedPart, change: SparseColumns) {
+    /// Factorise S + `change` as the new M₀, in the old factors' array.
+    fn refactorize(&mut self, schur: &SoilSchur, change: SparseColumns) {
         self.update = None;
         self.drifted = None;
-        self.lu.refactorize(KeptMatrix { fixed, change: &change });
+        self.lu.refactorize(KeptMatrix { schur, change: &change });
         self.base = change;
         self.iterations_since = 0;
         self.factorizations += 1;
     }
 
-    /// M⁻¹ b for the matrix now represented (F the same as in [`UpdatedLu::set`]).
-    pub fn solve(&mut self, fixed: &FixedPart, b: &Mat<f64>) -> Mat<f64> {
+    /// M⁻¹ b for the matrix now represented (S the same as in [`UpdatedLu::set`]).
+    pub fn solve(&mut self, schur: &SoilSchur, b: &Mat<f64>) -> Mat<f64> {
         self.solves_of_this += 1;
         if self.iterations_since >= ITERATIONS_PER_FACTORISATION {
             if let Some(change) = self.drifted.take() {
-                self.refactorize(fixed, change);
+                self.refactorize(schur, change);
             }
         }
-        if let Some(change) = &self.drifted {
-            let (x, iterations) = iterate(&self.lu, KeptMatrix { fixed, change }, b);
+        if let Some(change) = self.drifted.take() {
+            let (x, iterations) = iterate(&self.lu, KeptMatrix { schur, change: &change }, b);
             self.iterations += iterations;
             self.iterations_since += iterations;
             match x {
                 Some(x) => {
                     self.iterations_per_solve = 0.5 * (self.iterations_per_solve + iterations as f64);
+                    self.drifted = Some(change);
                     return x;
                 }
-                None => {
-                    let change = self.drifted.take().expect("checked above");
-                    self.refactorize(fixed, change);
-                }
+                None => self.refactorize(schur, change),
             }
         }
         self.solve_exactly(b)
@@ -225,15 +223,15 @@ mod tests {
     //! The updated factorisation solves the changed matrix as a new factorisation does.
     use super::*;
 
-    /// The fixed part F.
-    fn fixed(m: usize) -> Mat<f64> {
+    /// The soil's Schur complement S.
+    fn soil_schur(m: usize) -> Mat<f64> {
         Mat::from_fn(m, m, |i, j| if i == j { 4.0 } else { 1.0 / (1.0 + (i as f64 - j as f64).abs()) })
     }
 
-    /// A change with the given entries, and F + C as a dense matrix to check against.
+    /// A change with the given entries, and S + C as a dense matrix to check against.
     fn change(m: usize, entries: &[(usize, usize, f64)]) -> (SparseColumns, Mat<f64>) {
         let c = SparseColumns::from_entries(m, entries.iter().copied());
-        let mut whole = fixed(m);
+        let mut whole = soil_schur(m);
         for &(i, j, v) in entries {
             whole[(i, j)] += v;
         }
@@ -247,9 +245,9 @@ mod tests {
     #[test]
     fn a_few_changed_columns_are_an_update_and_solve_exactly() {
         let m = 60;
-        let f = fixed(m);
+        let f = soil_schur(m);
         let (c0, _) = change(m, &[(5, 5, 1.0), (7, 2, 0.25)]);
-        let f = FixedPart::from_dense(f.as_ref());
+        let f = SoilSchur::from_dense(f.as_ref());
         let mut lu = UpdatedLu::new(&f, c0);
         let mut entries = vec![(5, 5, 1.0), (7, 2, 0.25)];
         for &j in &[3usize, 17, 40] {
@@ -267,10 +265,10 @@ mod tests {
 
     #[test]
     fn unknowns_on_their_own_diagonal_are_left_out_of_the_factors() {
-        // F zero in the rows and columns of the last 10 unknowns (multipliers), C their unit
+        // S zero in the rows and columns of the last 10 unknowns (multipliers), C their unit
         // diagonals and, for two of them (50 and 55), a row and column coupling them to the rest
         let (m, free) = (60, 50);
-        let mut f = fixed(m);
+        let mut f = soil_schur(m);
         for i in 0..m {
             for j in 0..m {
                 if i >= free || j >= free {
@@ -291,10 +289,10 @@ mod tests {
             whole[(i, j)] += v;
         }
         let whole_f = f;
-        let f = FixedPart::from_dense(whole_f.as_ref());
+        let f = SoilSchur::from_dense(whole_f.as_ref());
         let lu = UpdatedLu::new(&f, c);
         // the eight multipliers on their own diagonal are left out; the two coupled ones (their
-        // diagonals nonzero) are eliminated before the dense factors, which are F's block alone
+        // diagonals nonzero) are eliminated before the dense factors, which are S's block alone
         assert_eq!(lu.lu.dense_order(), free);
         let b = Mat::from_fn(m, 2, |i, c| (i as f64 * 0.3 + c as f64).cos());
         let mut this = lu;
@@ -321,8 +319,8 @@ mod tests {
     #[test]
     fn a_matrix_that_moved_a_little_everywhere_is_solved_iteratively_to_the_tolerance() {
         let m = 80;
-        let whole_f = fixed(m);
-        let f = FixedPart::from_dense(whole_f.as_ref());
+        let whole_f = soil_schur(m);
+        let f = SoilSchur::from_dense(whole_f.as_ref());
         let mut lu = UpdatedLu::new(&f, SparseColumns::from_entries(m, std::iter::empty()));
         // every entry 0.1 % off: every column changed
         let entries: Vec<(usize, usize, f64)> = (0..m)
@@ -341,9 +339,9 @@ mod tests {
     #[test]
     fn a_matrix_far_from_the_factorised_one_is_factorised_afresh() {
         let m = 40;
-        let f = fixed(m);
+        let f = soil_schur(m);
         let far = |shift: f64| change(m, &(0..m).map(|i| (i, i, shift * (1 + i % 3) as f64)).collect::<Vec<_>>());
-        let f = FixedPart::from_dense(f.as_ref());
+        let f = SoilSchur::from_dense(f.as_ref());
         let mut lu = UpdatedLu::new(&f, SparseColumns::from_entries(m, std::iter::empty()));
         let b = Mat::from_fn(m, 1, |i, _| i as f64);
         let (c, whole) = far(1.0);
