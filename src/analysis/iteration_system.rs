@@ -14,16 +14,21 @@ use crate::interface::NormalState;
 use crate::linsol::csc::Triplets;
 use crate::model::Model;
 
+/// The springs' parts of an iteration's matrix (as in [`SystemInputs`]'s `spring_*` fields).
+#[derive(Clone, Copy)]
+pub struct SpringTangents<'a> {
+    pub stiffness: &'a [f64],
+    pub coupling: Option<&'a [f64]>,
+    pub dilation: Option<&'a [[f64; 2]]>,
+    pub stretch: Option<&'a [Vec<(usize, f64)>]>,
+}
+
 /// The inputs of an iteration's matrix.
-#[allow(clippy::too_many_arguments)]
 pub fn inputs<'a>(
     elements: &'a ElementMatrices,
     soil_trial: &'a SoilTrial,
     rows: &'a InterfaceRows,
-    spring_stiffness: &'a [f64],
-    spring_coupling: Option<&'a [f64]>,
-    spring_dilation: Option<&'a [[f64; 2]]>,
-    spring_stretch: Option<&'a [Vec<(usize, f64)>]>,
+    springs: SpringTangents<'a>,
     dofs: &'a DofMap,
     state: &'a State,
 ) -> SystemInputs<'a> {
@@ -31,10 +36,10 @@ pub fn inputs<'a>(
         elements,
         soil: SoilView { field: &state.soil, trial: soil_trial },
         rows,
-        spring_stiffness,
-        spring_coupling,
-        spring_dilation,
-        spring_stretch,
+        spring_stiffness: springs.stiffness,
+        spring_coupling: springs.coupling,
+        spring_dilation: springs.dilation,
+        spring_stretch: springs.stretch,
         bars: &state.bars,
         interfaces: &state.interfaces,
         dofs,
@@ -146,6 +151,7 @@ pub fn first_system(model: &Model) -> (usize, IterationSystem) {
         .iter()
         .map(|s| state.interfaces[s.interface].faces[s.face].law.shear_stiffness().unwrap_or(0.0) * s.tributary)
         .collect();
-    let system = inputs(&elements, &soil_trial, &rows, &stiffness, None, None, None, &dofs, &state);
+    let tangents = SpringTangents { stiffness: &stiffness, coupling: None, dilation: None, stretch: None };
+    let system = inputs(&elements, &soil_trial, &rows, tangents, &dofs, &state);
     (dofs.size(), iteration_system(system, &springs, &state, true, None))
 }

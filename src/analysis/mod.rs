@@ -34,7 +34,6 @@
 //! reactions come from the same residual.
 
 pub mod checkpoint;
-mod condensation;
 mod context;
 mod convergence;
 mod correction;
@@ -49,7 +48,6 @@ pub mod resume_check;
 mod singular;
 mod sink;
 pub mod soil;
-mod soil_normal_stress;
 mod springs;
 mod stage;
 mod state;

@@ -39,7 +39,7 @@ pub struct SpringResult {
 /// A point of an embedded reinforcement takes the soil's normal stress across its segment
 /// ([`soil::normal_stress_across`]): its row only holds it on the line, and carries about nothing.
 /// That stress is the one of `State::soil_sigma_from` (or the last converged increment), settled
-/// by passes over the increment (`super::soil_normal_stress`).
+/// by passes over the increment (`equilibrium/settle.rs`).
 pub fn normal_stress(model: &Model, state: &State, rows: &InterfaceRows, spring: &Spring) -> f64 {
     let face = &state.interfaces[spring.interface].faces[spring.face];
     let p = &face.points[spring.point];

@@ -4,13 +4,12 @@
 
 use super::checkpoint::{Checkpoint, ModelPrint, StageProgress};
 use super::context::Context;
-use super::equilibrium::IncrementReport;
+use super::equilibrium::{self, EmbeddedSigmaN, IncrementReport};
 use super::loads::external_force;
 use super::predictor::{self, LastIncrement};
 use super::results::{reinforcement_balance, StepResults};
 use super::sink::{StepRecord, StepSink};
 use super::soil;
-use super::soil_normal_stress::settled_equilibrium;
 use super::springs::{self, normal_stress};
 use super::state::State;
 use crate::assembly::{internal_force, SoilView};
@@ -169,7 +168,7 @@ pub fn increments(
         if let Some(last) = last.as_ref().filter(|_| extrapolate) {
             predictor::extrapolate(state, &stage.dofs, last, target);
         }
-        let report = match settled_equilibrium(cx, &stage.dofs, state) {
+        let report = match equilibrium::increment(cx, &stage.dofs, state, EmbeddedSigmaN::Settled) {
             Ok(report) => report,
             Err(e) => {
                 if e.retryable() && cutbacks < cx.options.analysis.max_cutbacks {

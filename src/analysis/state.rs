@@ -22,7 +22,7 @@ pub struct State {
     /// σn per spring frozen at the start of the stage (when asked for).
     pub frozen_sigma_n: Option<Vec<f64>>,
     /// The displacements whose soil stress gives an embedded reinforcement's σn in this pass of
-    /// the increment (`None`: the last converged increment's; see `soil_normal_stress`).
+    /// the increment (`None`: the last converged increment's; see `equilibrium/settle.rs`).
     pub soil_sigma_from: Option<Vec<f64>>,
     /// Bars (in mesh order): ruptured, not yet placed, stretch at placement.
     pub bars: BarStates,

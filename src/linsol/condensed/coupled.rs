@@ -24,7 +24,7 @@
 //! fingerprint that matched a different matrix would be caught by the first solve's residual,
 //! which is checked against the whole L + C: see `condensed.rs`.)
 
-use super::elimination::Condensing;
+use super::condensing::Condensing;
 use super::kept::KeptUnknowns;
 use super::kept_matrix::SoilSchur;
 use crate::linsol::csc::CscMatrix;

@@ -13,21 +13,10 @@
 //! forward and one backward pass (ICNTL(26)); every other backend gets [`BlockElimination`]: A_II
 //! factorised by the backend itself and S built one column of A_IK at a time.
 
+use super::condensing::Condensing;
 use crate::error::SolveError;
 use crate::linsol::csc::{CscMatrix, PatternCache, Triplets};
 use crate::linsol::{make, Backend, Failure, LinearSolver, SolverOptions};
-
-/// A backend that condenses a matrix onto kept unknowns.
-pub trait Condensing {
-    fn backend(&self) -> Backend;
-    /// Factorise the interior of `matrix` and return the Schur complement on `kept` (sorted,
-    /// distinct equation numbers), dense and row by row.
-    fn factorize_condensed(&mut self, matrix: &CscMatrix, kept: &[usize]) -> Result<Vec<f64>, Failure>;
-    /// r_K − A_KI A_II⁻¹ r_I, in the order of `kept`.
-    fn condense(&mut self, rhs: &[f64]) -> Result<Vec<f64>, Failure>;
-    /// The solution on every unknown, from the one on the kept unknowns.
-    fn expand(&mut self, rhs: &[f64], kept_solution: &[f64]) -> Result<Vec<f64>, Failure>;
-}
 
 /// The Schur complement by block elimination: A_II factorised by any backend, S built column by
 /// column (one solve per kept unknown that A_IK couples to the interior).

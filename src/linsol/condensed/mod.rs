@@ -30,56 +30,30 @@
 //! 9. [`Fallback`]: why a system is not solved here, and the full system's solve takes over.
 
 mod block_lu;
+pub(in crate::linsol) mod condensing;
 mod coupled;
 mod elimination;
 mod fallback;
 mod kept;
 mod kept_matrix;
+mod parts;
 mod ready;
 mod updated_lu;
 
-pub(in crate::linsol) use elimination::Condensing;
 pub use fallback::{CondensedError, Fallback};
 pub use kept::KeptUnknowns;
+pub use parts::{InterfacePart, KeptSolution, SoilPart};
 
-use super::csc::{PatternCache, Triplets};
+use super::csc::PatternCache;
 use super::linear_system::SolverStats;
 use super::{Backend, SolverOptions};
 use crate::error::SolveError;
+use condensing::Condensing;
 use coupled::CoupledKept;
 use elimination::make_condensing;
 use ready::{CondensedSoil, Ready};
 use std::rc::Rc;
 use std::time::Instant;
-
-/// The soil part L of a solve: its kept unknowns, the key that names its values, how to assemble
-/// it (called only when the key is new) and its product with a vector (from the caller's
-/// elements, once L's matrix has been let go).
-pub struct SoilPart<'a> {
-    pub kept: &'a Rc<KeptUnknowns>,
-    pub key: u64,
-    pub assemble: &'a dyn Fn() -> Triplets,
-    pub times: &'a dyn Fn(&[f64]) -> Vec<f64>,
-}
-
-/// The changing part C of a solve: the key of the iteration's matrix (while it stays, the dense
-/// factorisation made with the C of its first solve is reused), and how to assemble C (called
-/// only when the key is new).
-pub struct InterfacePart<'a> {
-    pub key: u64,
-    pub assemble: &'a dyn Fn() -> Triplets,
-}
-
-/// A solve of the kept system alone ([`CondensedSystem::solve_kept`]).
-pub struct KeptSolution {
-    /// x_K.
-    pub x: Vec<f64>,
-    /// ‖(S + C_KK)·x_K − r_K‖ / ‖r_K‖.
-    pub residual: f64,
-    /// S·x_K: the change of the soil's force on the kept unknowns when they move by x_K and the
-    /// interior follows in balance.
-    pub soil_force: Vec<f64>,
-}
 
 /// The soil condensed onto the interface's unknowns, and the interface system's factorisation:
 /// the linear algebra of the interface iteration (module comment).

@@ -1,12 +1,13 @@
 //! A condensed soil with the interface system factorised on it: the state in which a solve can
 //! run. [`Ready`] exists only once both are in place, so nothing in a solve asks whether they are.
 
+use super::condensing::Condensing;
 use super::coupled::CoupledKept;
 use super::fallback::{CondensedError, Fallback};
 use super::kept::KeptUnknowns;
 use super::kept_matrix::{SoilSchur, SparseColumns};
+use super::parts::{InterfacePart, KeptSolution};
 use super::updated_lu::UpdatedLu;
-use super::{Condensing, InterfacePart, KeptSolution};
 use crate::linsol::csc::CscMatrix;
 use crate::linsol::linear_system::SolverStats;
 use crate::linsol::refine::{accepted, refine, Refinable};

@@ -1,6 +1,7 @@
 //! A whole solve after the kept system was solved alone: L was let go by then and its product
 //! comes from the caller; the solution meets (L + C) x = b to round-off on every backend.
 use super::*;
+use crate::linsol::csc::Triplets;
 
 /// A chain of 12 springs fixed at one end (L), and a spring between the kept unknowns 3 and 11
 /// (C).

@@ -423,7 +423,7 @@ impl Mumps {
     }
 }
 
-impl crate::linsol::condensed::Condensing for Mumps {
+impl crate::linsol::condensed::condensing::Condensing for Mumps {
     fn backend(&self) -> Backend {
         Backend::Mumps
     }

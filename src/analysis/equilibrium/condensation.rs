@@ -18,7 +18,7 @@
 //! reference, which stays the independent check), an interior the soil alone cannot hold (the
 //! factorisation finds it singular), or more kept unknowns than a dense system should have.
 
-use super::state::State;
+use super::super::state::State;
 use crate::assembly::{bar_force, ElementMatrices, SystemInputs};
 use crate::dofs::DofMap;
 use crate::linsol::condensed::{CondensedError, CondensedSystem, InterfacePart, KeptUnknowns, SoilPart};
@@ -35,7 +35,8 @@ const MAX_KEPT_SHARE: f64 = 0.5;
 
 /// The unknowns an interface can touch: every multiplier; the DOFs of every bar; the DOFs of every
 /// master node and slave point of every contact face; any DOF no present soil element holds.
-pub fn kept_equations(elements: &ElementMatrices, dofs: &DofMap, state: &State) -> KeptUnknowns {
+pub fn kept_equations(system: &SystemInputs) -> KeptUnknowns {
+    let (elements, dofs) = (system.elements, system.dofs);
     let mut keep = vec![false; dofs.size()];
     let mut mark = |d: usize| {
         if let Some(e) = dofs.equation[d] {
@@ -47,7 +48,7 @@ pub fn kept_equations(elements: &ElementMatrices, dofs: &DofMap, state: &State) 
             mark(d);
         }
     }
-    for face in state.interfaces.iter().flat_map(|i| &i.faces) {
+    for face in system.interfaces.iter().flat_map(|i| &i.faces) {
         for &n in face.master.iter().chain(face.points.iter().map(|p| &p.slave)) {
             mark(2 * n);
             mark(2 * n + 1);
@@ -55,7 +56,7 @@ pub fn kept_equations(elements: &ElementMatrices, dofs: &DofMap, state: &State) 
     }
     let mut held_by_soil = vec![false; dofs.equation.len()];
     let first_bar = elements.bars.first().map_or(elements.blocks.len(), |b| b.block);
-    let present = state.soil.active_words();
+    let present = system.soil.field.active_words();
     for (b, (dl, _)) in elements.blocks[..first_bar].iter().enumerate() {
         if present[b / 64] >> (b % 64) & 1 == 1 {
             for &d in dl {
@@ -85,13 +86,9 @@ pub enum Condensed {
 /// Solve an iteration's system condensed, when the run condenses (`condensed` is set) and this
 /// iteration allows it. `system`: the iteration's inputs; `key`: the fingerprint of its whole
 /// matrix. A backend error turns condensation off for the rest of the run, with a warning.
-#[allow(clippy::too_many_arguments)]
 pub fn solve(
     condensed: &mut Option<CondensedSystem>,
     stats: &mut SolverStats,
-    elements: &ElementMatrices,
-    dofs: &DofMap,
-    state: &State,
     system: SystemInputs,
     key: u64,
     rhs: &[f64],
@@ -100,9 +97,9 @@ pub fn solve(
     if system.soil.trial.tangents.iter().any(Option::is_some) {
         return Condensed::NotHere;
     }
-    let kept = Rc::new(kept_equations(elements, dofs, state));
+    let kept = Rc::new(kept_equations(&system));
     // (nothing to condense onto — soil alone, no interface or bar — is the full system's solve)
-    if kept.is_empty() || kept.len() > MAX_KEPT || kept.len() as f64 > MAX_KEPT_SHARE * dofs.size() as f64 {
+    if kept.is_empty() || kept.len() > MAX_KEPT || kept.len() as f64 > MAX_KEPT_SHARE * system.dofs.size() as f64 {
         return Condensed::NotHere;
     }
     let t = std::time::Instant::now();
@@ -154,16 +151,16 @@ pub struct Deferred {
 }
 
 impl Deferred {
-    /// Start from a balanced interior: `element_force` is the elements' part of the internal force
-    /// (soil and bars) at the current displacements; `floor` the residual's round-off floor there.
+    /// Start from a balanced interior: `balanced` holds the elements' part of the internal force
+    /// (soil and bars) at the current displacements and the residual's round-off floor there.
     pub fn start(
         condensed: &CondensedSystem,
         elements: &ElementMatrices,
         dofs: &DofMap,
         state: &State,
-        element_force: &[f64],
-        floor: f64,
+        balanced: BalancedInterior,
     ) -> Option<Deferred> {
+        let BalancedInterior { element_force, floor } = balanced;
         let (kept, soil_key) = condensed.condensed_on()?;
         let mut dof_of = vec![None; dofs.size()];
         for (d, e) in dofs.equation.iter().enumerate() {
@@ -225,34 +222,37 @@ impl Deferred {
     }
 }
 
+/// The elements' part of the internal force at the current displacements, and the residual's
+/// round-off floor there.
+#[derive(Clone, Copy)]
+pub struct BalancedInterior<'a> {
+    pub element_force: &'a [f64],
+    pub floor: f64,
+}
+
 /// An interface iteration from the start of an increment, where the soil is elastic and condensed
 /// as it is now, onto the unknowns the interface touches now, and the right-hand side `rhs` is no
-/// more than round-off (`floor`) off the kept unknowns: the interior is in balance as the last
-/// increment's end left it (its interior followed the interface), and the increment's load moved
-/// the kept unknowns alone (a pulled reinforcement's head). `element_force`: the elements' part of
-/// the internal force at the current displacements.
-#[allow(clippy::too_many_arguments)]
+/// more than round-off (`balanced.floor`) off the kept unknowns: the interior is in balance as the
+/// last increment's end left it (its interior followed the interface), and the increment's load
+/// moved the kept unknowns alone (a pulled reinforcement's head).
 pub fn start_in_balance(
     condensed: &CondensedSystem,
-    elements: &ElementMatrices,
-    dofs: &DofMap,
-    state: &State,
     system: SystemInputs,
+    state: &State,
     rhs: &[f64],
-    element_force: &[f64],
-    floor: f64,
+    balanced: BalancedInterior,
 ) -> Option<Deferred> {
     if system.soil.trial.tangents.iter().any(Option::is_some) {
         return None;
     }
     let (kept, soil_key) = condensed.condensed_on()?;
-    if soil_key != system.soil_fingerprint() || **kept != kept_equations(elements, dofs, state) {
+    if soil_key != system.soil_fingerprint() || **kept != kept_equations(&system) {
         return None;
     }
-    if !(kept.interior_norm(rhs) <= floor) {
+    if !(kept.interior_norm(rhs) <= balanced.floor) {
         return None;
     }
-    Deferred::start(condensed, elements, dofs, state, element_force, floor)
+    Deferred::start(condensed, system.elements, system.dofs, state, balanced)
 }
 
 /// An iteration of the interface alone: the kept rows of `rhs` solved with S + C_KK. Returns the

@@ -1,7 +1,7 @@
 //! The σn of an embedded reinforcement, settled within each increment.
 //!
 //! An embedded point's σn is the soil's normal stress across the reinforcement
-//! ([`super::springs::normal_stress`]). Taken at every iterate it would depend on the shear the
+//! ([`normal_stress`]). Taken at every iterate it would depend on the shear the
 //! point itself puts into the soil beside it, and an increment could then have more than one
 //! equilibrium (the constant-stiffness and Newton schemes found two, 1 % apart, on
 //! `examples/embedded-pullout`). So each pass of an increment holds σn at the soil's stress of a
@@ -10,11 +10,12 @@
 //! until σn changes by less than [`SETTLED`] of the largest. Each pass is one problem with one
 //! answer, so every scheme goes through the same passes to the same end.
 
-use super::context::Context;
-use super::convergence::IncrementError;
-use super::equilibrium::{equilibrium, IncrementReport};
-use super::springs::normal_stress;
-use super::state::State;
+use super::super::context::Context;
+use super::super::convergence::IncrementError;
+use super::super::springs::normal_stress;
+use super::super::state::State;
+use super::iterate::iterate;
+use super::iterations::IncrementReport;
 use crate::dofs::DofMap;
 use crate::interface::rows::InterfaceRows;
 
@@ -25,12 +26,8 @@ pub const SETTLED: f64 = 1e-9;
 pub const MAX_PASSES: usize = 50;
 
 /// Iterate an increment to equilibrium, and again while its embedded reinforcements' σn moves.
-pub fn settled_equilibrium(
-    cx: &mut Context,
-    dofs: &DofMap,
-    state: &mut State,
-) -> Result<IncrementReport, IncrementError> {
-    let mut report = equilibrium(cx, dofs, state)?;
+pub(super) fn settled(cx: &mut Context, dofs: &DofMap, state: &mut State) -> Result<IncrementReport, IncrementError> {
+    let mut report = iterate(cx, dofs, state)?;
     let embedded = state.interfaces.iter().flat_map(|i| &i.faces).any(|f| f.embedded.is_some());
     if !embedded || state.frozen_sigma_n.is_some() {
         return Ok(report);
@@ -52,7 +49,7 @@ pub fn settled_equilibrium(
             report.iterations = iterations;
             return Ok(report);
         }
-        report = equilibrium(cx, dofs, state)?;
+        report = iterate(cx, dofs, state)?;
         iterations += report.iterations;
     }
     let unsettled = embedded_sigma_n(cx, dofs, state)

@@ -1,0 +1,154 @@
+//! After a correction: the active set and the bars' rupture, then the convergence test, on the
+//! interface alone during an interface iteration and on the whole system otherwise.
+
+use super::super::context::Context;
+use super::super::convergence::{balance, displacement_ok, gaps_closed, IncrementError, Measures};
+use super::super::non_finite::{self, Iterate};
+use super::super::soil;
+use super::super::springs;
+use super::super::state::State;
+use super::condensation::{BalancedInterior, Deferred};
+use super::interface::finish_interface;
+use super::iterations::{IncrementReport, Iterations};
+use super::linearise::clip;
+use crate::assembly::{soil_and_bar_force_and_floor, SoilView};
+use crate::dofs::DofMap;
+use crate::element::soil_state::SoilTrial;
+use crate::interface::active_set::{describe, Bands};
+use crate::interface::rows::InterfaceRows;
+use std::time::Instant;
+
+/// After a correction: the active set and the bars' rupture, then the convergence test. Returns
+/// the report when the increment has converged.
+pub(super) fn check(
+    cx: &mut Context,
+    dofs: &DofMap,
+    state: &mut State,
+    it: &mut Iterations,
+    iteration: usize,
+    correction2: f64,
+    interface_soil: Option<SoilTrial>,
+) -> Result<Option<IncrementReport>, IncrementError> {
+    let t = Instant::now();
+    clip(cx, state);
+    let mut rows = InterfaceRows::new(&cx.model.mesh, &state.interfaces, &dofs.multipliers);
+    let springs = springs::evaluate(cx.model, state, &rows);
+    rows.dilate(springs.iter().map(|r| r.dilation));
+    let characteristic = cx.characteristic;
+    let force_floor = state
+        .f_ext
+        .iter()
+        .fold(0.0f64, |m, f| m.max(f.abs()))
+        .max(1e-6 * cx.elements.typical_stiffness() * characteristic);
+    let gaps = rows.gaps(&state.u);
+    let bands = Bands::new(&state.lambda, force_floor, characteristic);
+    let mut changes = cx.active_set(dofs, &state.placed).update(
+        &mut state.interfaces,
+        &mut state.lambda,
+        &gaps,
+        bands,
+        &mut it.flips,
+    );
+    let elements = &cx.elements;
+    changes.extend(state.bars.rupture(&elements.bars, |i| &elements.blocks[i].0, &state.u));
+    cx.system.stats.interface_seconds += t.elapsed().as_secs_f64();
+    it.state_changes.extend(changes.iter().cloned());
+    let settings = &cx.options.analysis;
+    // (the correction against the displacements so far, for an increment that moves almost
+    // nothing, as a strength-reduction trial at F = 1, while slack sheets under no normal stress
+    // drift along themselves without changing any force)
+    let displacement_ok = displacement_ok(settings, iteration, correction2, &state.u, &it.u_increment_start);
+    let taus: Vec<f64> = springs.iter().map(|r| r.tau).collect();
+    if let (Some(deferred), Some(_)) = (it.deferred.as_ref(), cx.condensed.as_ref()) {
+        // an interface iteration: the residual on the kept unknowns, the interior unmoved
+        let t = Instant::now();
+        let element = deferred.element_force(&cx.elements, state);
+        let (residual, reference) = balance(&element, &rows, &taus, state, dofs);
+        cx.system.stats.residual_seconds += t.elapsed().as_secs_f64();
+        it.last_residual = Some((residual, reference));
+        let measures = Measures {
+            residual,
+            reference,
+            floor: deferred.floor,
+            settled: changes.is_empty(),
+            gaps_closed: gaps_closed(&gaps, state, dofs, characteristic),
+            displacement_ok,
+        };
+        let last = iteration == settings.max_iterations;
+        if !measures.converged(settings) && !last && residual.is_finite() {
+            it.carried_element_force = Some(element);
+            it.carried_soil = interface_soil;
+            return Ok(None);
+        }
+        // converged on the interface (or out of iterations): the interior follows, and the whole
+        // system is checked below
+        finish_interface(cx, dofs, state, it)?;
+    }
+    let settings = &cx.options.analysis;
+    let t = Instant::now();
+    // with the tangent the next iteration assembles (the forces do not depend on it)
+    let soil_trial = soil::evaluate(&cx.setup, &state.soil, &state.u, &state.u_committed, it.fallbacks.soil_tangent);
+    // the elements' force and the residual's round-off floor in one pass
+    let view = SoilView { field: &state.soil, trial: &soil_trial };
+    let (element_force, floor) = soil_and_bar_force_and_floor(&cx.elements, view, &state.bars, &state.u);
+    let (residual, reference) = balance(&element_force, &rows, &taus, state, dofs);
+    cx.system.stats.residual_seconds += t.elapsed().as_secs_f64();
+    if !residual.is_finite() || !reference.is_finite() {
+        let iterate = Iterate { mesh: &cx.model.mesh, dofs, state, soil_trial: Some(&soil_trial), springs: &springs };
+        let first = non_finite::in_iterate(&iterate).unwrap_or(non_finite::NonFinite {
+            value: if residual.is_finite() { reference } else { residual },
+            location:
+                "the out-of-balance force (every displacement, load, soil force and interface stress was finite: \
+                       their products overflowed)"
+                    .into(),
+        });
+        return Err(IncrementError::NonFinite { iteration, first });
+    }
+    it.last_residual = Some((residual, reference));
+    let measures = Measures {
+        residual,
+        reference,
+        floor,
+        settled: changes.is_empty(),
+        gaps_closed: gaps_closed(&gaps, state, dofs, characteristic),
+        displacement_ok,
+    };
+    if measures.converged(settings) {
+        return Ok(Some(IncrementReport {
+            iterations: iteration,
+            force_residual: residual / reference,
+            linear_residuals: std::mem::take(&mut it.linear_residuals),
+            springs,
+            state_changes: std::mem::take(&mut it.state_changes),
+            soil: soil_trial,
+            element_force,
+        }));
+    }
+    if iteration == settings.max_iterations {
+        let mut unsettled: Vec<(usize, usize)> =
+            it.flips.iter().map(|(&k, &n)| (k, n)).filter(|&(_, n)| n > 1).collect();
+        unsettled.sort_by_key(|&(_, n)| std::cmp::Reverse(n));
+        let unsettled = unsettled
+            .into_iter()
+            .map(|(k, n)| format!("{} ({n} changes)", describe(&cx.model.mesh, &state.interfaces, dofs.multipliers[k])))
+            .collect();
+        return Err(IncrementError::NotConverged {
+            iterations: iteration,
+            residual,
+            reference,
+            unsettled,
+            yielding: soil_trial.yielding,
+        });
+    }
+    if it.condensed_solve {
+        // the whole system was solved condensed: the interior is in balance, and the iterations
+        // go on on the interface alone
+        if let Some(condensed) = cx.condensed.as_ref() {
+            let balanced = BalancedInterior { element_force: &element_force, floor: measures.floor };
+            it.deferred = Deferred::start(condensed, &cx.elements, dofs, state, balanced);
+        }
+    }
+    it.carried_soil = Some(soil_trial);
+    it.carried_element_force = Some(element_force);
+    Ok(None)
+}

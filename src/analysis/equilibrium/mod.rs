@@ -1,0 +1,70 @@
+//! One increment iterated to equilibrium: each iteration linearises, solves, updates and asks
+//! whether it has converged.
+//!
+//! ```text
+//! [ K  sCᵀ ] { Δu    }   { f_ext − f_int(u) − Cᵀλ }
+//! [ sC sD  ] { Δλ/s } = { −s·g(u)  (or −λ on a unit-diagonal row) }
+//! ```
+//!
+//! K holds the elements and each spring's Ks·ℓ (constant stiffness: kept while the contact states
+//! stay, so the factorisation is reused and an iteration costs one solve) or its tangent (Newton);
+//! under the consistent Newton tangent the springs' shear is coupled to their normal multipliers.
+//!
+//! The files, in the order an iteration uses them:
+//! - `linearise.rs`: the rows, the springs' laws, the soil and the springs' stiffness at the
+//!   iterate ([`Linearisation`](linearise::Linearisation));
+//! - `solve.rs`: the one place that chooses how the system is solved, among three paths
+//!   ([`Path`](solve::Path)): on the interface alone, condensed, or in full;
+//! - `interface.rs` and `condensation.rs`: the interface iteration (the elastic soil condensed
+//!   onto the interface's unknowns, `linsol::condensed`) and its deferred interior;
+//! - `check.rs`: the update of the active set and the convergence test;
+//! - `settle.rs`: the passes over an increment that settle an embedded reinforcement's σn.
+//!
+//! - `iterations.rs` and `iterate.rs`: what an increment's iterations carry, and their loop.
+//!
+//! [`increment`] is the one way in.
+
+mod check;
+mod condensation;
+mod interface;
+mod iterate;
+mod iterations;
+mod linearise;
+mod settle;
+mod solve;
+
+use super::context::Context;
+use super::convergence::IncrementError;
+use super::state::State;
+use crate::dofs::DofMap;
+use iterate::iterate;
+
+pub use iterations::IncrementReport;
+
+/// How an increment treats the σn of its embedded reinforcements (the soil's normal stress across
+/// them).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum EmbeddedSigmaN {
+    /// Iterated again until σn settles (`settle.rs`): a loading step.
+    Settled,
+    /// Taken as the iterations leave it, one pass: a strength-reduction trial. Its trials have
+    /// always been single passes; the two differ only on embedded faces whose σn is not frozen.
+    AsIterated,
+}
+
+/// Iterate one increment to equilibrium.
+///
+/// # Errors
+/// The increment's failure: no equilibrium (with the interface points that kept changing state),
+/// a non-finite value, or a solver's error.
+pub fn increment(
+    cx: &mut Context,
+    dofs: &DofMap,
+    state: &mut State,
+    sigma_n: EmbeddedSigmaN,
+) -> Result<IncrementReport, IncrementError> {
+    match sigma_n {
+        EmbeddedSigmaN::Settled => settle::settled(cx, dofs, state),
+        EmbeddedSigmaN::AsIterated => iterate(cx, dofs, state),
+    }
+}
