@@ -94,8 +94,8 @@ pub fn resume(
     let mut cx = Context::new(model, options)?;
     let Checkpoint { stage_index, step, mut state, held, gravity, applied_weight, progress, .. } = checkpoint;
     (cx.held, cx.gravity, cx.applied_weight) = (held, gravity, applied_weight);
-    let mut stage = stage::resumed(&cx, &state, &model.stages[stage_index], stage_index, &progress);
-    stage::increments(&mut cx, &mut state, &mut stage, sink, Some((&progress, step)))?;
+    let mut stage = stage::resumed(&cx, &state, &model.stages[stage_index], stage_index, progress, step);
+    stage::increments(&mut cx, &mut state, &mut stage, sink)?;
     stages_from(&mut cx, &mut state, stage_index + 1, sink)?;
     Ok(cx.system.stats)
 }
@@ -110,7 +110,10 @@ fn stages_from(cx: &mut Context, state: &mut State, first: usize, sink: &mut dyn
                 let fs = strength_reduction::search(cx, state, &mut stage, reduction, sink)?;
                 sink.factor_of_safety(&fs)?;
             }
-            None => stage::increments(cx, state, &mut stage, sink, None)?,
+            None => {
+                stage::freeze_normal_stress(cx, state, &stage);
+                stage::increments(cx, state, &mut stage, sink)?;
+            }
         }
     }
     Ok(())
