@@ -17,8 +17,8 @@
 //! Distances are measured along the liner line from the toe (negative on the cell floor).
 
 use geoslip::analysis::results::StepResults;
+use geoslip::analysis::RunStats;
 use geoslip::analysis::{FactorOfSafety, StepRecord, StepSink};
-use geoslip::linsol::linear_system::SolverStats;
 use geoslip::model::Model;
 use geoslip::output::plots::{write_figure, Panel};
 use geoslip::output::{run_and_write, OwnedFolder};
@@ -43,7 +43,7 @@ struct Keep {
 }
 
 impl StepSink for Keep {
-    fn step_done(&mut self, step: &StepResults, record: &StepRecord, _: &SolverStats) -> Result<(), Error> {
+    fn step_done(&mut self, step: &StepResults, record: &StepRecord, _: &RunStats) -> Result<(), Error> {
         match record.strength_factor {
             Some(f) => self.at_fs = Some((f, step.clone())),
             None => self.built = Some(step.clone()),
@@ -130,7 +130,7 @@ fn run() -> Result<(), Error> {
     let out = Path::new("results/landfill-slope");
     let model = Model::load(&path)?;
     let mut keep = Keep::default();
-    let seconds = run_and_write(&model, out, &mut keep)?;
+    let seconds = run_and_write(&model, out, &Default::default(), &mut keep)?;
     let Keep { built, at_fs, fs } = keep;
     let built = built.expect("a completed run has construction steps");
     let (factor, at_fs) = at_fs.expect("the strength-reduction stage found at least F = 1");

@@ -18,8 +18,8 @@
 //! tributary height: T_max = K_a·(γ·z + q)·S_v, with K_a = tan²(45° − φ/2) for a vertical face.
 
 use geoslip::analysis::results::StepResults;
+use geoslip::analysis::RunStats;
 use geoslip::analysis::{StepRecord, StepSink};
-use geoslip::linsol::linear_system::SolverStats;
 use geoslip::model::Model;
 use geoslip::output::plots::{write_figure, Panel};
 use geoslip::output::{run_and_write, OwnedFolder};
@@ -38,7 +38,7 @@ struct Keep {
 }
 
 impl StepSink for Keep {
-    fn step_done(&mut self, step: &StepResults, _: &StepRecord, _: &SolverStats) -> Result<(), Error> {
+    fn step_done(&mut self, step: &StepResults, _: &StepRecord, _: &RunStats) -> Result<(), Error> {
         self.last = Some(step.clone());
         Ok(())
     }
@@ -65,7 +65,7 @@ fn run() -> Result<(), Error> {
     let out = Path::new("results/reinforced-wall");
     let model = Model::load(&path)?;
     let mut keep = Keep { last: None };
-    let seconds = run_and_write(&model, out, &mut keep)?;
+    let seconds = run_and_write(&model, out, &Default::default(), &mut keep)?;
     let last = keep.last;
     let last = last.expect("a completed run has steps");
     let backfill = &model.soils.iter().find(|(n, _)| n == "backfill").expect("the model has a backfill").1;

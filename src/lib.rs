@@ -2,8 +2,14 @@
 //!
 //! Normal compatibility between soil and reinforcement is imposed by Lagrange multipliers (Yi 1996,
 //! Eq. 5), with no arbitrary normal stiffness; tangential resistance comes from a shear stiffness Ks
-//! per face. The saddle-point system [K Cᵀ; C 0] is assembled in triplet form and solved by a
-//! sparse direct solver.
+//! per face. The saddle-point system [K sCᵀ; sC sD] (s: the constraint rows' scale; D: the unit
+//! diagonal of released rows and the dilating faces' terms) is assembled in triplet form and solved
+//! by a sparse direct solver: MUMPS, UMFPACK or faer, with a dense reference ([`linsol`]). While the
+//! soil is elastic, each iteration solves only the interface's unknowns: the soil is condensed onto
+//! them once ([`linsol::condensed`]), an iteration costs a dense factorisation of that small
+//! system or an update of it, and the soil's interior follows once an increment
+//! (the interface path of `analysis/equilibrium/`). Results are the same as the whole system's, to its
+//! residual check.
 //!
 //! The driver reads top to bottom: [`model::Model::load`] → [`analysis::run`] → [`output`].
 

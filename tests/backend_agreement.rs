@@ -191,7 +191,7 @@ fn mumps_inertia_equals_the_active_multipliers_on_every_example() {
         let model = Model::load(&dir.join(name)).unwrap_or_else(|e| panic!("{e}"));
         let options = geoslip::analysis::RunOptions { backend: Backend::Mumps, ..Default::default() };
         let stats = geoslip::analysis::run(&model, &options, &mut Collect::default()).unwrap();
-        assert!(stats.factorizations > 0);
+        assert!(stats.solver.factorizations > 0);
         assert!(stats.warnings.is_empty(), "{name}: {:?}", stats.warnings);
     }
 }

@@ -22,8 +22,8 @@
 //! the file. Every file is checked before the test fails, so one run lists every broken expectation.
 
 use geoslip::analysis::results::StepResults;
+use geoslip::analysis::RunStats;
 use geoslip::analysis::{self, RunOptions, StepRecord, StepSink};
-use geoslip::linsol::linear_system::SolverStats;
 use geoslip::model::Model;
 use geoslip::Error;
 use std::panic::{catch_unwind, AssertUnwindSafe};
@@ -36,7 +36,7 @@ const MIN_FILES: usize = 30;
 struct Discard;
 
 impl StepSink for Discard {
-    fn step_done(&mut self, _: &StepResults, _: &StepRecord, _: &SolverStats) -> Result<(), Error> {
+    fn step_done(&mut self, _: &StepResults, _: &StepRecord, _: &RunStats) -> Result<(), Error> {
         Ok(())
     }
 }

@@ -63,7 +63,7 @@ fn every_backend_draws_the_same_closed_loops() {
     }
     // the run's report draws the loops
     let out_dir = tempfile::tempdir().unwrap();
-    geoslip::output::run_and_write(&model, out_dir.path(), &mut Collect::default()).unwrap();
+    geoslip::output::run_and_write(&model, out_dir.path(), &Default::default(), &mut Collect::default()).unwrap();
     assert!(out_dir.path().join("pullout.png").is_file());
     let summary = std::fs::read_to_string(out_dir.path().join("summary.json")).unwrap();
     assert_eq!(summary.matches("the loading history reverses").count(), 6, "{summary}");

@@ -171,7 +171,7 @@ fn the_report_says_the_embedded_face_stands_for_both() {
     let options = geoslip::analysis::RunOptions::for_model(&model, backend);
     let mut writer = geoslip::output::ResultWriter::new(&model, out.path(), backend.name()).unwrap();
     let mut keep = geoslip::analysis::Collect::default();
-    geoslip::output::write_run(&model, &options, &mut writer, &mut keep).unwrap();
+    geoslip::output::write_run(&model, &options, None, &mut writer, &mut keep).unwrap();
     let report = std::fs::read_to_string(out.path().join("report.md")).unwrap();
     assert!(report.contains("| grid | coulomb | 2 (embedded: one set of points for both) | 17 |"), "{report}");
     let interface = std::fs::read_to_string(out.path().join("summary.json")).unwrap();

@@ -26,7 +26,7 @@ fn run(file: &ModelFile) -> (Collect, Vec<String>) {
     let mut sink = Collect::default();
     let stats = analysis::run(&model, &RunOptions::for_model(&model, Backend::available()[0]), &mut sink)
         .unwrap_or_else(|e| panic!("{e}"));
-    (sink, stats.warnings)
+    (sink, stats.warnings.texts())
 }
 
 #[test]

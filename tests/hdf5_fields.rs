@@ -1,5 +1,5 @@
 //! `results.h5` holds every field of every step exactly as the run computed it: the paper's pull-out
-//! test in clay is run through the library (`output::run_and_write_with`) with every step kept in
+//! test in clay is run through the library (`output::run_and_write`) with every step kept in
 //! memory (`analysis::sink::Collect`), and the HDF5 file is read back with the hdf5 crate, every
 //! dataset of every step compared with the in-memory `StepResults`: with `--field-precision double`
 //! f64 for f64 (`==`); by default (single) each field value stored as a 4-byte float equal to the
@@ -289,7 +289,7 @@ fn every_field_of_every_step_reads_back(precision: FieldPrecision) {
     let out = tempfile::tempdir().unwrap();
     let mut steps = Collect::default();
     let options = OutputOptions { precision, ..OutputOptions::default() };
-    geoslip::output::run_and_write_with(&model, out.path(), &options, &mut steps).unwrap();
+    geoslip::output::run_and_write(&model, out.path(), &options, &mut steps).unwrap();
     assert_eq!(steps.steps.len(), 61);
 
     let file = hdf5::File::open(out.path().join("results.h5")).unwrap();

@@ -39,7 +39,7 @@ fn frictional_pullout(scheme: Scheme) -> Model {
     common::model(&file, "frictional-pullout.toml")
 }
 
-fn run(model: &Model, backend: Backend, condense: bool) -> (Collect, geoslip::linsol::linear_system::SolverStats) {
+fn run(model: &Model, backend: Backend, condense: bool) -> (Collect, geoslip::analysis::RunStats) {
     let options = RunOptions {
         solver: SolverOptions { condense, ..SolverOptions::default() },
         ..RunOptions::for_model(model, backend)
@@ -59,7 +59,7 @@ fn the_condensed_iteration_reaches_the_full_systems_equilibrium_on_every_backend
             for condense in [true, false] {
                 let (c, stats) = run(&model, backend, condense);
                 assert_eq!(
-                    stats.condensed_unknowns.is_some(),
+                    stats.solver.condensed_unknowns.is_some(),
                     condense,
                     "{} {scheme:?}: condensed {condense}",
                     backend.name()
@@ -104,14 +104,18 @@ fn the_interface_iteration_needs_few_sparse_solves() {
     let (_, condensed) = run(&model, backend, true);
     let (_, full) = run(&model, backend, false);
     assert_eq!(condensed.iterations, full.iterations, "the same iterates");
-    assert!(full.solves >= condensed.iterations, "full: {} solves", full.solves);
+    assert!(full.solver.solves >= condensed.iterations, "full: {} solves", full.solver.solves);
     assert!(
-        condensed.solves * 2 < full.solves,
+        condensed.solver.solves * 2 < full.solver.solves,
         "condensed: {} sparse solves against {} on the full system",
-        condensed.solves,
-        full.solves
+        condensed.solver.solves,
+        full.solver.solves
     );
-    assert!(condensed.factorizations <= 3, "condensed: {} sparse factorisations", condensed.factorizations);
+    assert!(
+        condensed.solver.factorizations <= 3,
+        "condensed: {} sparse factorisations",
+        condensed.solver.factorizations
+    );
 }
 
 #[test]
@@ -127,9 +131,9 @@ fn a_pulled_increment_costs_one_sparse_solve() {
     let pulled = c.steps.len() - first_stage;
     assert_eq!(pulled, 8, "the pull's increments");
     assert!(
-        condensed.solves <= 2 * first_stage + pulled,
+        condensed.solver.solves <= 2 * first_stage + pulled,
         "{} sparse solves for {first_stage} loading and {pulled} pulled increments",
-        condensed.solves
+        condensed.solver.solves
     );
 }
 

@@ -95,7 +95,7 @@ fn newton_factorises_symmetric_where_its_tangent_is_and_reaches_the_same_equilib
         let options = RunOptions::for_model(&model, backend);
         let stats = analysis::run(&model, &options, &mut collect).unwrap_or_else(|e| panic!("{e}"));
         let head = model.node_sets["grid.head"][0];
-        (-collect.last().unwrap().reaction_vector[2 * head], stats.symmetric)
+        (-collect.last().unwrap().reaction_vector[2 * head], stats.solver.symmetric)
     };
     for backend in Backend::available() {
         for (frozen, large_slip) in [(true, false), (true, true), (false, true)] {

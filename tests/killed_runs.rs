@@ -5,7 +5,7 @@
 //! the same folder left) and issue 20, "Done when": "a run killed at 10 random moments never leaves
 //! an incomplete step or a temporary file after the next run". A step's folder is written beside
 //! its place as `.partial-step-NNN` and renamed into place, every other file through a
-//! `.partial-*` temporary file (src/output/mod.rs).
+//! `.partial-*` temporary file (src/output/owned_folder.rs).
 //!
 //! A small pull-out box pulled in 100 increments (one step folder each) runs for half a second to a
 //! second on this machine (a run syncs every file it writes); it is run once to completion, then 10 times into one output folder, each time

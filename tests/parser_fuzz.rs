@@ -15,9 +15,9 @@
 //! input is saved under `target/fuzz-failures/parsers/<target>/` with the reason; the test then
 //! fails naming it.
 
+use geoslip::analysis::RunStats;
 use geoslip::analysis::{self, Checkpoint, RunOptions, StepSink};
 use geoslip::gmsh::GmshMesh;
-use geoslip::linsol::linear_system::SolverStats;
 use geoslip::linsol::Backend;
 use geoslip::model::Model;
 use geoslip::output::checkpoints::{self, From};
@@ -186,7 +186,7 @@ impl StepSink for Saved {
         &mut self,
         _: &analysis::results::StepResults,
         _: &analysis::StepRecord,
-        _: &SolverStats,
+        _: &RunStats,
     ) -> Result<(), geoslip::Error> {
         Ok(())
     }

@@ -41,7 +41,7 @@ fn run(reserved: usize, backend: Backend) -> (Vec<(f64, f64)>, usize) {
     let head = model.node_sets["grid.head"][0];
     let curve =
         sink.steps.iter().map(|(_, r)| (-r.displacement_vector[2 * head], -r.reaction_vector[2 * head])).collect();
-    (curve, stats.analyses)
+    (curve, stats.solver.analyses)
 }
 
 #[test]

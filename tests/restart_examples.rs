@@ -6,7 +6,7 @@
 //! stresses and the stage's progress), so on one backend (faer) every later step must agree with
 //! the same iterations, to round-off: not always to the last digit, because where the soil is
 //! condensed onto the interface the straight run solves the interface system through updates of a
-//! factorisation made increments before (src/linsol/dense_update.rs), where the
+//! factorisation made increments before (src/linsol/condensed/updated_lu.rs), where the
 //! continued run factorises it afresh. Measured: up to 4.3e-12 of a field's largest value
 //! (soil-nail, 1.8e-12 in the clay pull-out, 3e-13 or less in the others); the tolerance is 2e-11.
 //!

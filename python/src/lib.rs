@@ -7,7 +7,7 @@
 
 use geoslip::analysis::results::StepResults;
 use geoslip::analysis::{Collect, RunOptions, StepRecord, StepSink};
-use geoslip::linsol::linear_system::SolverStats;
+use geoslip::analysis::RunStats;
 use geoslip::linsol::Backend;
 use geoslip::model::file::ModelFile;
 use geoslip::output::ResultWriter;
@@ -131,7 +131,7 @@ impl Model {
             .map_err(|e| RunError::new_err(e.to_string()))?;
         let targets = writer.targets();
         let mut observer = Observer { steps: Collect::default(), progress, stop: None, source: self.source.clone() };
-        let result = py.allow_threads(|| geoslip::output::write_run(model, &options, &mut writer, &mut observer));
+        let result = py.allow_threads(|| geoslip::output::write_run(model, &options, None, &mut writer, &mut observer));
         let summary = std::fs::read_to_string(folder.join("summary.json")).unwrap_or_else(|_| "{}".into());
         let results = results(py, model, &observer.steps, &targets, &summary, result.is_ok())?;
         match (result, observer.stop) {
@@ -181,7 +181,7 @@ impl StepSink for Observer {
         &mut self,
         step: &StepResults,
         record: &StepRecord,
-        stats: &SolverStats,
+        stats: &RunStats,
     ) -> Result<(), geoslip::Error> {
         self.steps.step_done(step, record, stats)?;
         let stopped = Python::with_gil(|py| -> PyResult<()> {

@@ -8,7 +8,7 @@
 //! ([`super::resume`]) gives the same later steps as the run that wrote it: the same state enters
 //! the same iterations.
 
-use super::predictor::LastIncrement;
+use super::stage::progress::StageProgress;
 use super::state::State;
 use crate::model::Model;
 use serde::{Deserialize, Serialize};
@@ -32,26 +32,6 @@ pub struct Checkpoint {
     /// The soil's weight and the boundary water pressure in the applied force.
     pub applied_weight: Vec<f64>,
     pub progress: StageProgress,
-}
-
-/// Where a stage is: its set-up's results and the load factors still to reach.
-#[derive(Debug, Clone, Serialize, Deserialize)]
-pub struct StageProgress {
-    pub redundant: Vec<String>,
-    pub force: Vec<f64>,
-    pub f_ext_start: Vec<f64>,
-    pub unbalance: Vec<f64>,
-    /// Displacements when the stage started (prescribed displacements count from them).
-    pub u_start: Vec<f64>,
-    /// Load factors still to reach (empty: the stage is complete).
-    pub targets: Vec<f64>,
-    pub reached: f64,
-    /// Steps of the plan reached.
-    pub planned: usize,
-    /// Cutbacks of the increment in progress.
-    pub cutbacks: usize,
-    /// The stage's last converged increment (what `extrapolation = "linear"` carries on).
-    pub last: Option<LastIncrement>,
 }
 
 /// Prints of the parts of a model a saved state depends on.

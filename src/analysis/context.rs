@@ -4,6 +4,7 @@
 
 use super::options::RunOptions;
 use super::soil::SoilSetup;
+use super::stats::{RunStats, SolverStats};
 use crate::assembly::ElementMatrices;
 use crate::dofs::{dof, DofMap};
 use crate::element::bar::BarMaterial;
@@ -22,6 +23,8 @@ pub struct Context<'a> {
     /// The soil's laws (reduced by a strength-reduction search while it runs).
     pub setup: SoilSetup,
     pub system: LinearSystem,
+    /// The run's counts, times and warnings.
+    pub stats: RunStats,
     /// The soil condensed onto the interface's unknowns (`condensation`), where the run condenses.
     pub condensed: Option<CondensedSystem>,
     /// The soil part (its key) whose condensed system's stiffness spread was checked
@@ -52,8 +55,9 @@ impl<'a> Context<'a> {
         check_memory(model, options).map_err(at_start)?;
         let setup = SoilSetup::new(model);
         let elements = element_matrices(model, &setup);
-        let system =
-            LinearSystem::new(options.backend, symmetric_tangent(model, options), &options.solver).map_err(at_start)?;
+        let symmetric = symmetric_tangent(model, options);
+        let system = LinearSystem::new(options.backend, symmetric, &options.solver).map_err(at_start)?;
+        let stats = RunStats { solver: SolverStats { symmetric, ..SolverStats::default() }, ..RunStats::default() };
         let condensed = condenses(options, &setup)
             .then(|| CondensedSystem::new(options.backend, &options.solver))
             .transpose()
@@ -69,6 +73,7 @@ impl<'a> Context<'a> {
             elements,
             setup,
             system,
+            stats,
             condensed,
             conditioning_checked: None,
             bar_only: bar_only_nodes(model),

@@ -7,9 +7,13 @@
 //!
 //! - `options`: what a run may be asked to do; `sink`: where its steps and factors of safety go;
 //! - `context`: what the run keeps from start to end; `state`: what a step carries to the next;
-//! - `stage`: a stage's set-up, its increments with cutback, and the commit of each step;
+//!   `stats`: the run's counts, times and typed warnings;
+//! - `stage`: a stage's set-up, its increments with cutback, and the completion of each step;
+//!   `checkpoint` and `resume_check`: a saved step and whether it fits the model;
 //! - `predictor`: an increment's first iterate (the last increment's, carried on when asked);
-//! - `equilibrium`: one increment's iterations (assemble → solve → update → converged?);
+//! - `equilibrium`: one increment's iterations (linearise → solve → update → check), with
+//!   `iteration_system` (an iteration's matrix inputs and right-hand side), `loads` and
+//!   `correction` (the line search and the update);
 //! - `convergence`: when an increment has converged, and how it failed; `singular`: the recoveries
 //!   from a singular matrix, or the diagnosis of what is unconstrained; `non_finite`: where a NaN
 //!   or an infinity first appeared;
@@ -51,9 +55,9 @@ pub mod soil;
 mod springs;
 mod stage;
 mod state;
+mod stats;
 mod strength_reduction;
 
-pub use crate::linsol::linear_system::SolverStats;
 pub use checkpoint::{Checkpoint, ResumeRefusal};
 pub use context::model_memory_estimate_mb;
 pub use iteration_system::{first_system, IterationSystem};
@@ -62,6 +66,7 @@ pub use options::RunOptions;
 pub use sink::{Collect, FactorOfSafety, StepRecord, StepSink};
 pub use springs::SpringResult;
 pub use state::State;
+pub use stats::{RunStats, SolverStats, Warning, Warnings};
 
 use crate::error::Error;
 use crate::model::Model;
@@ -72,11 +77,11 @@ use context::Context;
 /// # Errors
 /// A solve or convergence failure names the stage and step, and the interface points that kept
 /// changing state; steps completed before it have already been passed to `sink`.
-pub fn run(model: &Model, options: &RunOptions, sink: &mut dyn StepSink) -> Result<SolverStats, Error> {
+pub fn run(model: &Model, options: &RunOptions, sink: &mut dyn StepSink) -> Result<RunStats, Error> {
     let mut cx = Context::new(model, options)?;
     let mut state = State::initial(model, options);
     stages_from(&mut cx, &mut state, 0, sink)?;
-    Ok(cx.system.stats)
+    Ok(cx.stats)
 }
 
 /// Continue a run from a saved step (a [`Checkpoint`] that [`Checkpoint::fits`] the model): the rest
@@ -90,14 +95,14 @@ pub fn resume(
     options: &RunOptions,
     checkpoint: Checkpoint,
     sink: &mut dyn StepSink,
-) -> Result<SolverStats, Error> {
+) -> Result<RunStats, Error> {
     let mut cx = Context::new(model, options)?;
     let Checkpoint { stage_index, step, mut state, held, gravity, applied_weight, progress, .. } = checkpoint;
     (cx.held, cx.gravity, cx.applied_weight) = (held, gravity, applied_weight);
     let mut stage = stage::resumed(&cx, &state, &model.stages[stage_index], stage_index, progress, step);
     stage::increments(&mut cx, &mut state, &mut stage, sink)?;
     stages_from(&mut cx, &mut state, stage_index + 1, sink)?;
-    Ok(cx.system.stats)
+    Ok(cx.stats)
 }
 
 /// Every stage from `first` on: its set-up, then its increments or its strength-reduction search.

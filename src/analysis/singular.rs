@@ -16,13 +16,13 @@
 use super::context::Context;
 use super::convergence::{cap, IncrementError};
 use super::state::State;
+use super::stats::{RunStats, Warning};
 use crate::dofs::DofMap;
 use crate::element::soil_state::Tangent;
 use crate::error::SolveError;
 use crate::interface::active_set::describe;
 use crate::interface::{Interface, NormalState};
 use crate::linsol::csc::{PatternCache, Triplets};
-use crate::linsol::linear_system::SolverStats;
 use crate::linsol::{dense_ref, Failure, LinearSolver};
 use crate::model::Model;
 
@@ -68,20 +68,12 @@ pub fn recover(
 ) -> Result<Recovered, IncrementError> {
     if !fallbacks.elastic_springs && singular.sliding {
         fallbacks.elastic_springs = true;
-        warn_once(
-            cx,
-            "the tangent with sliding interface points was singular in some increments (a slack \
-             reinforcement held only by sliding points); they continued with Ks on those points",
-        );
+        cx.stats.warnings.add(Warning::SlidingTangentSingular);
         return Ok(Recovered::NewMatrix);
     }
     if singular.yielded_soil {
         fallbacks.soil_tangent = Tangent::Elastic;
-        warn_once(
-            cx,
-            "the consistent tangent of the yielded soil was singular in some increments; they \
-             continued on the elastic soil stiffness",
-        );
+        cx.stats.warnings.add(Warning::YieldedTangentSingular);
         return Ok(Recovered::NewMatrix);
     }
     let null = null_equations(singular.triplets, dofs.size(), singular.equations.clone()).unwrap_or_default();
@@ -119,11 +111,6 @@ pub fn recover(
 /// Beyond this ratio of the largest to the smallest stiffness on the diagonal, a factorisation in
 /// double precision (16 digits) keeps too few to tell a mechanism from round-off.
 const ILL_CONDITIONED: f64 = 1e12;
-
-fn warn_once(cx: &mut Context, warning: &str) {
-    let w = warning.to_string();
-    cx.system.stats.warn(w);
-}
 
 /// The smallest and the largest positive stiffness on the diagonal of the displacement unknowns
 /// (equation and value), and their ratio.
@@ -185,24 +172,16 @@ pub fn pass_over_constrained(diagonal: &mut [f64], triplets: &Triplets) {
 /// Warn (once a run) when a matrix that was solved is ill-conditioned: its results carry round-off
 /// that the residual check may not show. `diagonal`: the matrix's diagonal over the displacement
 /// unknowns (`dofs.free_count`) that no constraint row holds ([`unconstrained_diagonal_of`]).
-pub fn warn_if_ill_conditioned(stats: &mut SolverStats, model: &Model, dofs: &DofMap, state: &State, diagonal: &[f64]) {
-    const WARNING: &str = "the stiffness matrix is ill-conditioned";
-    if stats.warnings.iter().any(|w| w.starts_with(WARNING)) {
+pub fn warn_if_ill_conditioned(stats: &mut RunStats, model: &Model, dofs: &DofMap, state: &State, diagonal: &[f64]) {
+    if stats.warnings.iter().any(|w| matches!(w, Warning::IllConditioned { .. })) {
         return;
     }
     if let Some(spread) = StiffnessSpread::of_diagonal(diagonal).filter(|s| s.ratio > ILL_CONDITIONED) {
-        let warning = format!(
-            "{WARNING}: its diagonal ranges from {:.3e} at {} to {:.3e} at {} (a ratio \
-             of {:.1e}, beyond the 1e12 that double precision factorises reliably); the results carry round-off: \
-             bring the stiffnesses closer (the soil's Young's modulus against the reinforcement's EA and the \
-             interfaces' Ks, in consistent units)",
-            spread.softest.1,
-            dofs.describe(spread.softest.0, &model.mesh, &state.interfaces),
-            spread.stiffest.1,
-            dofs.describe(spread.stiffest.0, &model.mesh, &state.interfaces),
-            spread.ratio
-        );
-        stats.warnings.push(warning);
+        stats.warnings.add(Warning::IllConditioned {
+            softest: (spread.softest.1, dofs.describe(spread.softest.0, &model.mesh, &state.interfaces)),
+            stiffest: (spread.stiffest.1, dofs.describe(spread.stiffest.0, &model.mesh, &state.interfaces)),
+            ratio: spread.ratio,
+        });
     }
 }
 

@@ -3,13 +3,13 @@
 
 use super::checkpoint::Checkpoint;
 use super::results::{ReinforcementBalance, StepResults};
+use super::stats::RunStats;
 use crate::error::Error;
 use crate::interface::reassociate::Reassociation;
-use crate::linsol::linear_system::SolverStats;
 
 /// Receives each converged step as soon as it exists, so that a later failure never loses it.
 pub trait StepSink {
-    fn step_done(&mut self, step: &StepResults, record: &StepRecord, stats: &SolverStats) -> Result<(), Error>;
+    fn step_done(&mut self, step: &StepResults, record: &StepRecord, stats: &RunStats) -> Result<(), Error>;
 
     /// The result of a strength-reduction stage, after its last step.
     fn factor_of_safety(&mut self, _fs: &FactorOfSafety) -> Result<(), Error> {
@@ -54,7 +54,7 @@ pub struct Collect {
 }
 
 impl StepSink for Collect {
-    fn step_done(&mut self, step: &StepResults, record: &StepRecord, _: &SolverStats) -> Result<(), Error> {
+    fn step_done(&mut self, step: &StepResults, record: &StepRecord, _: &RunStats) -> Result<(), Error> {
         self.steps.push((record.clone(), step.clone()));
         Ok(())
     }

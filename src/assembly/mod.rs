@@ -1,9 +1,8 @@
 //! Assembly: the element matrices, the saddle-point matrix of one iteration from one input struct
 //! (and its fingerprint), and the internal forces.
 
+pub mod forces;
 pub mod system;
 
-pub use system::{
-    add_spring_forces, bar_force, internal_force, soil_and_bar_force, soil_and_bar_force_and_floor, ElementMatrices,
-    SoilView, SystemInputs,
-};
+pub use forces::{add_spring_forces, bar_force, internal_force, soil_and_bar_force, soil_and_bar_force_and_floor};
+pub use system::{ElementMatrices, SoilView, SystemInputs};

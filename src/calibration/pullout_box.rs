@@ -9,8 +9,8 @@
 use super::error::CalibrationError;
 use super::spec::{PullOutBoxSpec, PullOutSpec};
 use crate::analysis::results::StepResults;
+use crate::analysis::RunStats;
 use crate::analysis::{self, RunOptions, StepRecord, StepSink};
-use crate::linsol::linear_system::SolverStats;
 use crate::linsol::Backend;
 use crate::meshgen::PullOutBox;
 use crate::model::file::ShearLawSpec;
@@ -91,7 +91,7 @@ struct HeadForces {
 }
 
 impl StepSink for HeadForces {
-    fn step_done(&mut self, step: &StepResults, record: &StepRecord, _: &SolverStats) -> Result<(), crate::Error> {
+    fn step_done(&mut self, step: &StepResults, record: &StepRecord, _: &RunStats) -> Result<(), crate::Error> {
         // stage 0 is the surcharge, stage 1 the pull
         if record.stage_index == 1 {
             let force: f64 = step.reactions.iter().filter(|r| self.head.contains(&r.node)).filter_map(|r| r.rx).sum();

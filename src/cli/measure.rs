@@ -250,7 +250,7 @@ impl analysis::StepSink for Counter {
         &mut self,
         step: &analysis::results::StepResults,
         record: &analysis::StepRecord,
-        _: &crate::linsol::linear_system::SolverStats,
+        _: &crate::analysis::RunStats,
     ) -> Result<(), crate::Error> {
         self.increments += 1;
         self.reassociations += record.reassociations.len();
@@ -287,26 +287,26 @@ pub fn measure_nonlinear(dofs: usize, backend: Backend, ordering: linsol::Orderi
     match result {
         Ok(s) => {
             m.iterations = s.iterations;
-            m.analyses = s.analyses;
-            m.factorizations = s.factorizations;
-            m.solves = s.solves;
-            m.assembly_seconds = s.assembly_seconds;
+            m.analyses = s.solver.analyses;
+            m.factorizations = s.solver.factorizations;
+            m.solves = s.solver.solves;
+            m.assembly_seconds = s.solver.assembly_seconds;
             m.interface_seconds = s.interface_seconds;
             m.residual_seconds = s.residual_seconds;
-            m.check_seconds = s.check_seconds;
-            m.analyse_seconds = s.analyse_seconds;
-            m.factorize_seconds = s.factorize_seconds;
-            m.solve_seconds = s.solve_seconds;
+            m.check_seconds = s.solver.check_seconds;
+            m.analyse_seconds = s.solver.analyse_seconds;
+            m.factorize_seconds = s.solver.factorize_seconds;
+            m.solve_seconds = s.solver.solve_seconds;
             m.output_seconds = s.output_seconds;
-            m.factor_memory_mb = s.factor_memory_mb;
+            m.factor_memory_mb = s.solver.factor_memory_mb;
             m.setup_seconds = m.total_seconds
-                - (s.assembly_seconds
+                - (s.solver.assembly_seconds
                     + s.interface_seconds
                     + s.residual_seconds
-                    + s.check_seconds
-                    + s.analyse_seconds
-                    + s.factorize_seconds
-                    + s.solve_seconds
+                    + s.solver.check_seconds
+                    + s.solver.analyse_seconds
+                    + s.solver.factorize_seconds
+                    + s.solver.solve_seconds
                     + s.output_seconds);
         }
         Err(e) => m.error = Some(e.to_string()),

@@ -45,7 +45,7 @@ impl StepSink for Progress {
         &mut self,
         _: &crate::analysis::results::StepResults,
         record: &StepRecord,
-        _: &crate::linsol::linear_system::SolverStats,
+        _: &crate::analysis::RunStats,
     ) -> Result<(), crate::Error> {
         // a cutback adds steps: the bar grows with them
         let done = self.bar.position() + 1;

@@ -140,7 +140,12 @@ struct Head {
 }
 
 impl StepSink for Head {
-    fn step_done(&mut self, step: &StepResults, record: &StepRecord, _: &SolverStats) -> Result<(), crate::Error> {
+    fn step_done(
+        &mut self,
+        step: &StepResults,
+        record: &StepRecord,
+        _: &analysis::RunStats,
+    ) -> Result<(), crate::Error> {
         if record.stage_index == 1 {
             self.pull_steps += 1;
             let head = step.reactions.iter().filter(|r| self.nodes.contains(&r.node));
@@ -190,7 +195,7 @@ pub fn measure_pullout(
     let output = crate::output::OutputOptions { no_restart: true, ..Default::default() };
     let written_run = |folder: &Path, head: &mut Head| {
         crate::output::ResultWriter::with_options(&model, folder, backend.name(), &output)
-            .and_then(|mut writer| crate::output::write_run(&model, &options, &mut writer, head).map(|_| writer))
+            .and_then(|mut writer| crate::output::write_run(&model, &options, None, &mut writer, head).map(|_| writer))
     };
     let t = Instant::now();
     let result = written_run(out.path(), &mut head);
@@ -201,23 +206,23 @@ pub fn measure_pullout(
         Ok(writer) => {
             let s = &writer.summary.solver_stats;
             m.iterations = s.iterations;
-            m.factorizations = s.factorizations;
-            m.dense_factorizations = s.dense_factorizations;
-            m.dense_iterations = s.dense_iterations;
-            m.solves = s.solves;
+            m.factorizations = s.solver.factorizations;
+            m.dense_factorizations = s.solver.dense_factorizations;
+            m.dense_iterations = s.solver.dense_iterations;
+            m.solves = s.solver.solves;
             m.output_seconds = s.output_seconds;
             m.writer_thread_seconds = writer.summary.writer_thread_seconds;
             m.write_seconds = writer.summary.write_seconds;
-            m.kept = s.condensed_unknowns;
+            m.kept = s.solver.condensed_unknowns;
             m.phases = [
-                s.assembly_seconds,
+                s.solver.assembly_seconds,
                 s.interface_seconds,
                 s.residual_seconds,
-                s.check_seconds,
-                s.factorize_seconds,
-                s.solve_seconds,
-                s.dense_seconds,
-                s.analyse_seconds,
+                s.solver.check_seconds,
+                s.solver.factorize_seconds,
+                s.solver.solve_seconds,
+                s.solver.dense_seconds,
+                s.solver.analyse_seconds,
             ];
         }
         Err(e) => m.error = Some(e.to_string()),
@@ -279,6 +284,7 @@ pub fn measure_pullout(
     let matrix = PatternCache::default().assemble(n, &system.triplets).0;
     match LinearSystem::new(backend, true, &linsol::SolverOptions::default()) {
         Ok(mut ls) => {
+            let mut stats = SolverStats::default();
             let mut factorize = [0.0; 3];
             let mut solve = [0.0; 3];
             for k in 0..3 {
@@ -288,10 +294,10 @@ pub fn measure_pullout(
                     *v *= 1.0 + 1e-9 * (k + 1) as f64;
                 }
                 let t = Instant::now();
-                let _ = ls.solve(n, values, &system.rhs, system.active);
+                let _ = ls.solve(&mut stats, n, values, &system.rhs, system.active);
                 factorize[k] = t.elapsed().as_secs_f64();
                 let t = Instant::now();
-                let _ = ls.solve_again(&system.rhs);
+                let _ = ls.solve_again(&mut stats, &system.rhs);
                 solve[k] = t.elapsed().as_secs_f64();
             }
             // a factorisation's time is the solve's call less its one solve

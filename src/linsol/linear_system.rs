@@ -18,27 +18,16 @@ pub struct SolverStats {
     pub factorize_seconds: f64,
     pub solve_seconds: f64,
     pub max_relative_residual: f64,
-    /// Outer (equilibrium) iterations over the run.
-    pub iterations: usize,
     /// Time building the triplets and refilling the CSC matrix.
     pub assembly_seconds: f64,
-    /// Time on interface points: rows, laws, active set, tributary clipping, re-association.
-    pub interface_seconds: f64,
-    /// Time computing the out-of-balance force.
-    pub residual_seconds: f64,
     /// Time checking each linear solution's residual ‖Ax−b‖/‖b‖ (and refining it).
     pub check_seconds: f64,
-    /// Time computing and writing each step's results.
-    pub output_seconds: f64,
     /// MUMPS's estimate of its factorisation memory after the last analysis, MB.
     pub estimated_memory_mb: Option<f64>,
     /// Memory MUMPS's last factorisation used (INFOG(22)), MB.
     pub factor_memory_mb: Option<f64>,
     /// Entries in the factors of the last factorisation, where the backend reports them.
     pub factor_entries: Option<u64>,
-    /// Diagnostics that do not stop a run (for example an inertia that differs from the number of
-    /// active multipliers).
-    pub warnings: Vec<String>,
     /// The run's matrices are symmetric: MUMPS factorises them as LDLᵀ (SYM=2) instead of LU; the
     /// other backends use LU either way.
     pub symmetric: bool,
@@ -48,7 +37,7 @@ pub struct SolverStats {
     /// Changes of the interface system taken as low-rank updates of its last factorisation.
     pub dense_updates: usize,
     /// BiCGSTAB iterations on interface systems that drifted from the last factorisation (each
-    /// preconditioned by it: `linsol::dense_update`).
+    /// preconditioned by it: `linsol/condensed/updated_lu.rs`).
     pub dense_iterations: usize,
     pub dense_seconds: f64,
     /// Unknowns the condensed system kept (the interface's), when a run condensed its soil.
@@ -56,31 +45,25 @@ pub struct SolverStats {
 }
 
 /// A solver backend with the bookkeeping that lets it skip work: a new analysis only for a new
-/// pattern, a new factorisation only for new values.
+/// pattern, a new factorisation only for new values. Its counts and times go to the run's
+/// [`SolverStats`], which each call is handed.
 pub struct LinearSystem {
     solver: Box<dyn LinearSolver>,
     patterns: PatternCache,
     factorized: Option<CscMatrix>,
-    pub stats: SolverStats,
-}
-
-impl SolverStats {
-    /// Add a warning unless the run has one already.
-    pub fn warn(&mut self, warning: String) {
-        if !self.warnings.contains(&warning) {
-            self.warnings.push(warning);
-        }
-    }
+    /// The last factorisation's negative pivots and active multipliers, when they differ.
+    inertia_mismatch: Option<(usize, usize)>,
 }
 
 impl LinearSystem {
-    /// A solver for matrices that are `symmetric` or not (MUMPS: SYM=2 or SYM=0).
+    /// A solver for matrices that are `symmetric` or not (MUMPS: SYM=2 or SYM=0; the run's
+    /// [`SolverStats::symmetric`] says which).
     pub fn new(backend: Backend, symmetric: bool, options: &super::SolverOptions) -> Result<Self, SolveError> {
         Ok(LinearSystem {
             solver: super::make(backend, symmetric, options)?,
             patterns: PatternCache::default(),
             factorized: None,
-            stats: SolverStats { symmetric, ..SolverStats::default() },
+            inertia_mismatch: None,
         })
     }
 
@@ -93,6 +76,7 @@ impl LinearSystem {
     /// the matrix is built, before the analysis and factorisation.
     pub fn solve(
         &mut self,
+        stats: &mut SolverStats,
         n: usize,
         triplets: Triplets,
         rhs: &[f64],
@@ -101,14 +85,14 @@ impl LinearSystem {
         let t = Instant::now();
         let (matrix, new_pattern) = self.patterns.assemble(n, &triplets);
         drop(triplets);
-        self.stats.assembly_seconds += t.elapsed().as_secs_f64();
+        stats.assembly_seconds += t.elapsed().as_secs_f64();
         if new_pattern {
             let t = Instant::now();
             let analysed = self.solver.analyse(&matrix);
-            self.stats.estimated_memory_mb = self.solver.estimated_memory_mb();
+            stats.estimated_memory_mb = self.solver.estimated_memory_mb();
             analysed?;
-            self.stats.analyses += 1;
-            self.stats.analyse_seconds += t.elapsed().as_secs_f64();
+            stats.analyses += 1;
+            stats.analyse_seconds += t.elapsed().as_secs_f64();
             self.factorized = None;
         }
         let same_values = self.factorized.as_ref().is_some_and(|f| f.values == matrix.values);
@@ -117,31 +101,32 @@ impl LinearSystem {
             self.factorized = None;
             let t = Instant::now();
             self.solver.factorize(&matrix)?;
-            self.stats.factorizations += 1;
-            self.stats.factor_entries = self.solver.factor_entries();
-            self.stats.factor_memory_mb = self.solver.factor_memory_mb();
+            stats.factorizations += 1;
+            stats.factor_entries = self.solver.factor_entries();
+            stats.factor_memory_mb = self.solver.factor_memory_mb();
             // Inertia check (DESIGN §2): the negative pivots equal the active multipliers when Kc has
             // full row rank, K is positive definite on its null space, supports are eliminated and no
-            // tangent is negative. A mismatch is worth knowing, not an error.
+            // tangent is negative. A mismatch is worth knowing, not an error: the run warns of it.
             if let Some(negative) = self.solver.negative_pivots() {
                 if negative != active_multipliers {
-                    let w = format!(
-                        "{} reports {negative} negative pivots for {active_multipliers} active multipliers: \
-                         some constraint rows may be dependent, or K is not positive definite on their null space",
-                        self.solver.backend().name()
-                    );
-                    self.stats.warn(w);
+                    self.inertia_mismatch = Some((negative, active_multipliers));
                 }
             }
-            self.stats.factorize_seconds += t.elapsed().as_secs_f64();
+            stats.factorize_seconds += t.elapsed().as_secs_f64();
         }
         self.factorized = Some(matrix);
-        self.solve_again(rhs)
+        self.solve_again(stats, rhs)
+    }
+
+    /// The negative pivots and active multipliers of a factorisation since the last call, when
+    /// they differed.
+    pub fn take_inertia_mismatch(&mut self) -> Option<(usize, usize)> {
+        self.inertia_mismatch.take()
     }
 
     /// Solve with the matrix of the last [`LinearSystem::solve`] and its factorisation, for a new
     /// right-hand side: the constant-stiffness iterations, whose matrix does not change.
-    pub fn solve_again(&mut self, rhs: &[f64]) -> Result<(Vec<f64>, f64), Failure> {
+    pub fn solve_again(&mut self, stats: &mut SolverStats, rhs: &[f64]) -> Result<(Vec<f64>, f64), Failure> {
         let Some(matrix) = self.factorized.as_ref() else {
             return Err(Failure::Other(SolveError::Backend {
                 backend: self.solver.backend().name(),
@@ -150,20 +135,20 @@ impl LinearSystem {
         };
         let t = Instant::now();
         let x = self.solver.solve(rhs)?;
-        self.stats.solve_seconds += t.elapsed().as_secs_f64();
-        self.stats.solves += 1;
+        stats.solve_seconds += t.elapsed().as_secs_f64();
+        stats.solves += 1;
         // the residual checks are geoslip's own work, counted apart from the backend's solves
         // (the refinement's correcting solves are counted as solves too)
         let t = Instant::now();
-        let mut full = FullSystem { solver: self.solver.as_mut(), matrix, stats: &mut self.stats };
+        let mut full = FullSystem { solver: self.solver.as_mut(), matrix, stats: &mut *stats };
         let (x, residual) = refine(&mut full, x, rhs)?;
-        self.stats.check_seconds += t.elapsed().as_secs_f64();
+        stats.check_seconds += t.elapsed().as_secs_f64();
         if !accepted(&x, residual) {
             // A numerically singular matrix: LU divides by a (near) zero pivot. The backend named
             // no pivots: the analysis finds them (`analysis::singular`).
             return Err(Failure::Singular { equations: Vec::new() });
         }
-        self.stats.max_relative_residual = self.stats.max_relative_residual.max(residual);
+        stats.max_relative_residual = stats.max_relative_residual.max(residual);
         Ok((x, residual))
     }
 }

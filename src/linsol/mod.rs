@@ -1,7 +1,12 @@
-//! Linear solvers for the saddle-point system [K Cᵀ; C D] behind one trait.
+//! Linear solvers for the saddle-point system [K sCᵀ; sC sD].
 //!
-//! The symbolic analysis (`analyse`) is done once per sparsity pattern and reused; the numeric
-//! factorisation (`factorize`) once per set of values; `solve` once per right-hand side.
+//! Two ways a system is solved:
+//! - whole, by a backend behind the [`LinearSolver`] trait (MUMPS, UMFPACK, faer, the dense
+//!   reference), with [`linear_system::LinearSystem`]'s bookkeeping: the symbolic analysis
+//!   (`analyse`) once per sparsity pattern, the numeric factorisation (`factorize`) once per set of
+//!   values, `solve` once per right-hand side, every solution checked and refined (`refine.rs`);
+//! - condensed, the elastic soil onto the interface's unknowns ([`condensed::CondensedSystem`]),
+//!   for the interface iteration.
 
 pub mod condensed;
 pub mod csc;

@@ -1,6 +1,8 @@
 //! `report.md`: what a run did and found, for a reader who opens one file.
 
-use super::RunSummary;
+use super::folder::num;
+use super::history::HistoryRow;
+use super::summary::RunSummary;
 use crate::model::Model;
 use std::fmt::Write;
 
@@ -8,7 +10,7 @@ use std::fmt::Write;
 pub fn markdown(
     model: &Model,
     summary: &RunSummary,
-    history: &[Vec<String>],
+    history: &[HistoryRow],
     units: &crate::model::UnitLabels,
     figures: &[(String, String)],
 ) -> String {
@@ -133,7 +135,7 @@ fn model_section(r: &mut String, model: &Model, summary: &RunSummary, units: &cr
 fn key_results(
     r: &mut String,
     summary: &RunSummary,
-    history: &[Vec<String>],
+    history: &[HistoryRow],
     units: &crate::model::UnitLabels,
     figures: &[(String, String)],
 ) {
@@ -147,15 +149,15 @@ fn key_results(
             units.length, units.force_per_width, units.force_per_width
         );
         let _ = writeln!(r, "|---|---|---:|---:|---:|");
-        let mut targets: Vec<(String, String)> = history.iter().map(|h| (h[3].clone(), h[4].clone())).collect();
+        let mut targets: Vec<(String, &str)> = history.iter().map(|h| (h.target.clone(), h.direction)).collect();
         targets.dedup();
         targets.sort();
         targets.dedup();
         for (t, d) in targets {
-            let rows: Vec<&Vec<String>> = history.iter().filter(|h| h[3] == t && h[4] == d).collect();
-            let peak = rows.iter().filter_map(|h| h[6].parse::<f64>().ok()).fold(0.0f64, |m, v| m.max(v.abs()));
+            let rows: Vec<&HistoryRow> = history.iter().filter(|h| h.target == t && h.direction == d).collect();
+            let peak = rows.iter().fold(0.0f64, |m, h| m.max(h.reaction.abs()));
             if let Some(last) = rows.last() {
-                let _ = writeln!(r, "| {t} | {d} | {} | {} | {peak:.6e} |", last[5], last[6]);
+                let _ = writeln!(r, "| {t} | {d} | {} | {} | {peak:.6e} |", num(last.displacement), num(last.reaction));
             }
         }
     }
@@ -220,7 +222,8 @@ fn run_history(r: &mut String, summary: &RunSummary) {
     }
 
     let _ = writeln!(r, "\n## Warnings and notes\n");
-    let warnings: Vec<&String> = summary.solver_stats.warnings.iter().chain(&summary.notes).collect();
+    let warnings: Vec<String> =
+        summary.solver_stats.warnings.texts().into_iter().chain(summary.notes.iter().cloned()).collect();
     if warnings.is_empty() {
         let _ = writeln!(r, "None.");
     }
@@ -254,20 +257,20 @@ fn run_history(r: &mut String, summary: &RunSummary) {
     let _ = writeln!(
         r,
         "\nLinear algebra: {} analyses ({:.3} s), {} factorisations of {} matrices ({:.3} s), {} solves ({:.3} s); largest relative residual {:.1e}.",
-        st.analyses,
-        st.analyse_seconds,
-        st.factorizations,
-        if st.symmetric { "symmetric" } else { "unsymmetric" },
-        st.factorize_seconds,
-        st.solves,
-        st.solve_seconds,
-        st.max_relative_residual
+        st.solver.analyses,
+        st.solver.analyse_seconds,
+        st.solver.factorizations,
+        if st.solver.symmetric { "symmetric" } else { "unsymmetric" },
+        st.solver.factorize_seconds,
+        st.solver.solves,
+        st.solver.solve_seconds,
+        st.solver.max_relative_residual
     );
-    if let Some(kept) = st.condensed_unknowns {
+    if let Some(kept) = st.solver.condensed_unknowns {
         let _ = writeln!(
             r,
             "The interface iteration condensed the soil onto {kept} kept unknowns: {} dense factorisations, {} low-rank updates and {} BiCGSTAB iterations preconditioned by the last factorisation ({:.3} s with its solves).",
-            st.dense_factorizations, st.dense_updates, st.dense_iterations, st.dense_seconds
+            st.solver.dense_factorizations, st.solver.dense_updates, st.solver.dense_iterations, st.solver.dense_seconds
         );
     }
 

@@ -1,6 +1,6 @@
 //! `summary.json`: what a run was, how it went and where its results are.
 
-use crate::analysis::SolverStats;
+use crate::analysis::RunStats;
 use crate::analysis::StepRecord;
 use crate::model::file::Direction;
 
@@ -36,7 +36,7 @@ pub struct RunSummary {
     /// Where the fields of the kept steps are.
     pub fields: FieldFiles,
     pub steps: Vec<StepRecord>,
-    pub solver_stats: SolverStats,
+    pub solver_stats: RunStats,
     pub total_seconds: f64,
     /// Time in the result writer: the field files, history, summary, report and plots.
     pub write_seconds: f64,

@@ -253,7 +253,7 @@ impl analysis::StepSink for Saved {
         &mut self,
         step: &analysis::results::StepResults,
         record: &analysis::StepRecord,
-        stats: &geoslip::linsol::linear_system::SolverStats,
+        stats: &geoslip::analysis::RunStats,
     ) -> Result<(), geoslip::Error> {
         self.steps.step_done(step, record, stats)
     }

@@ -51,7 +51,7 @@ pub(super) fn check(
     );
     let elements = &cx.elements;
     changes.extend(state.bars.rupture(&elements.bars, |i| &elements.blocks[i].0, &state.u));
-    cx.system.stats.interface_seconds += t.elapsed().as_secs_f64();
+    cx.stats.interface_seconds += t.elapsed().as_secs_f64();
     it.state_changes.extend(changes.iter().cloned());
     let settings = &cx.options.analysis;
     // (the correction against the displacements so far, for an increment that moves almost
@@ -64,7 +64,7 @@ pub(super) fn check(
         let t = Instant::now();
         let element = deferred.element_force(&cx.elements, state);
         let (residual, reference) = balance(&element, &rows, &taus, state, dofs);
-        cx.system.stats.residual_seconds += t.elapsed().as_secs_f64();
+        cx.stats.residual_seconds += t.elapsed().as_secs_f64();
         it.last_residual = Some((residual, reference));
         let measures = Measures {
             residual,
@@ -92,7 +92,7 @@ pub(super) fn check(
     let view = SoilView { field: &state.soil, trial: &soil_trial };
     let (element_force, floor) = soil_and_bar_force_and_floor(&cx.elements, view, &state.bars, &state.u);
     let (residual, reference) = balance(&element_force, &rows, &taus, state, dofs);
-    cx.system.stats.residual_seconds += t.elapsed().as_secs_f64();
+    cx.stats.residual_seconds += t.elapsed().as_secs_f64();
     if !residual.is_finite() || !reference.is_finite() {
         let iterate = Iterate { mesh: &cx.model.mesh, dofs, state, soil_trial: Some(&soil_trial), springs: &springs };
         let first = non_finite::in_iterate(&iterate).unwrap_or(non_finite::NonFinite {

@@ -4,7 +4,7 @@
 //! While the soil is elastic, only the interface changes from one iteration to the next: the
 //! springs' tangents, which rows hold, which segment each point faces. The soil is condensed onto
 //! the unknowns the interface can touch (the reinforcements' DOFs, every DOF of the nodes on a
-//! contact face's master path, every multiplier) once per stage; an iteration then costs one dense
+//! contact face's master path, every multiplier) once per soil (its fingerprint); an iteration then costs one dense
 //! LU of that small system (when its matrix changed) and one condensation and expansion, whatever
 //! the scheme's tangent. The answer is the direct solve's, to its residual check.
 //!
@@ -19,11 +19,11 @@
 //! factorisation finds it singular), or more kept unknowns than a dense system should have.
 
 use super::super::state::State;
+use super::super::stats::{RunStats, SolverStats, Warning};
 use crate::assembly::{bar_force, ElementMatrices, SystemInputs};
 use crate::dofs::DofMap;
 use crate::linsol::condensed::{CondensedError, CondensedSystem, InterfacePart, KeptUnknowns, SoilPart};
 use crate::linsol::csc::Triplets;
-use crate::linsol::linear_system::SolverStats;
 use std::rc::Rc;
 
 /// Largest number of kept unknowns condensed onto, and the largest share of all the unknowns they
@@ -88,7 +88,7 @@ pub enum Condensed {
 /// matrix. A backend error turns condensation off for the rest of the run, with a warning.
 pub fn solve(
     condensed: &mut Option<CondensedSystem>,
-    stats: &mut SolverStats,
+    stats: &mut RunStats,
     system: SystemInputs,
     key: u64,
     rhs: &[f64],
@@ -105,7 +105,7 @@ pub fn solve(
     let t = std::time::Instant::now();
     let change: Triplets = system.assemble_reinforcement_and_interface();
     let soil_key = system.soil_fingerprint();
-    stats.assembly_seconds += t.elapsed().as_secs_f64();
+    stats.solver.assembly_seconds += t.elapsed().as_secs_f64();
     if !kept.holds(&change) {
         return Condensed::NotHere;
     }
@@ -113,15 +113,13 @@ pub fn solve(
     let times = |x: &[f64]| system.soil_times(x);
     let soil = SoilPart { kept: &kept, key: soil_key, assemble: &assemble, times: &times };
     let interface = InterfacePart { key, assemble: &|| change.clone() };
-    match solver.solve(stats, &soil, &interface, rhs) {
+    match solver.solve(&mut stats.solver, &soil, &interface, rhs) {
         Ok((x, residual)) => Condensed::Solved(x, residual),
         // the dense interface system, or a soil interior that the soil alone cannot hold: the full
         // system's recoveries and diagnosis take over
         Err(CondensedError::Fallback(_)) => Condensed::NotHere,
         Err(CondensedError::Backend(e)) => {
-            let warning =
-                format!("the interface iteration's condensed solve failed ({e}); the run goes on with the full system");
-            stats.warn(warning);
+            stats.warnings.add(Warning::CondensedSolveFailed { error: e.to_string() });
             *condensed = None;
             Condensed::NotHere
         }

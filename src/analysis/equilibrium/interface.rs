@@ -38,7 +38,7 @@ pub(super) fn start_on_interface(
         let balanced = BalancedInterior { element_force: &element, floor };
         it.deferred = condensation::start_in_balance(condensed, system, state, &rhs, balanced);
     }
-    cx.system.stats.assembly_seconds += t.elapsed().as_secs_f64();
+    cx.stats.solver.assembly_seconds += t.elapsed().as_secs_f64();
     it.carried_element_force = Some(element);
 }
 
@@ -69,10 +69,9 @@ pub(super) fn solve_condensed(
     linear: &Linearisation,
 ) -> Result<Option<Solution>, IncrementError> {
     let model = cx.model;
-    let Context { condensed, system: linear_system, elements, .. } = &mut *cx;
-    let stats = &mut linear_system.stats;
+    let Context { condensed, stats, elements, .. } = &mut *cx;
     let element = it.carried_element_force.clone();
-    let (system, rhs, scale) = right_hand_side(elements, stats, linear, dofs, state, element);
+    let (system, rhs, scale) = right_hand_side(elements, &mut stats.solver, linear, dofs, state, element);
     if rhs.iter().any(|v| !v.is_finite()) {
         // the full path names the first place
         return Ok(None);
@@ -104,7 +103,7 @@ pub(super) fn solve_condensed(
             }
             None => singular::unconstrained_diagonal_of(&system.assemble(), dofs.free_count),
         };
-        singular::warn_if_ill_conditioned(&mut cx.system.stats, cx.model, dofs, state, &diagonal);
+        singular::warn_if_ill_conditioned(&mut cx.stats, cx.model, dofs, state, &diagonal);
     }
     it.carried_element_force = None;
     // the full system's factorisation (if any) is not this iteration's matrix
@@ -125,13 +124,12 @@ pub(super) fn solve_interface(
     linear: &Linearisation,
 ) -> Result<Option<Solution>, IncrementError> {
     let Some(deferred) = it.deferred.as_mut() else { return Ok(None) };
-    let Context { condensed, system: linear_system, elements, .. } = &mut *cx;
-    let stats = &mut linear_system.stats;
+    let Context { condensed, stats, elements, .. } = &mut *cx;
     let element = it.carried_element_force.take();
-    let (system, rhs, scale) = right_hand_side(elements, stats, linear, dofs, state, element);
+    let (system, rhs, scale) = right_hand_side(elements, &mut stats.solver, linear, dofs, state, element);
     let solved = match condensed.as_mut() {
         Some(c) if rhs.iter().all(|v| v.is_finite()) => {
-            condensation::solve_deferred(c, stats, deferred, system, linear.key, &rhs)
+            condensation::solve_deferred(c, &mut stats.solver, deferred, system, linear.key, &rhs)
         }
         _ => None,
     };
@@ -157,9 +155,9 @@ pub(super) fn finish_interface(
     let Some(deferred) = it.deferred.take() else { return Ok(()) };
     it.carried_element_force = None;
     it.carried_soil = None;
-    let Context { condensed, system: linear_system, .. } = &mut *cx;
+    let Context { condensed, stats, .. } = &mut *cx;
     let Some(c) = condensed.as_mut() else { return Ok(()) };
-    deferred.finish(c, &mut linear_system.stats, dofs, state).map_err(|e| match e {
+    deferred.finish(c, &mut stats.solver, dofs, state).map_err(|e| match e {
         CondensedError::Backend(e) => IncrementError::Solve(e),
         CondensedError::Fallback(_) => IncrementError::Solve(crate::error::SolveError::Backend {
             backend: c.backend().name(),

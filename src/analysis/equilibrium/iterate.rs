@@ -16,7 +16,7 @@ pub(super) fn iterate(cx: &mut Context, dofs: &DofMap, state: &mut State) -> Res
     let mut it = Iterations::new(cx, state);
     let max_iterations = cx.options.analysis.max_iterations;
     for iteration in 1..=max_iterations {
-        cx.system.stats.iterations += 1;
+        cx.stats.iterations += 1;
         it.iteration = iteration;
         let mut linear = linearise(cx, dofs, state, &mut it, iteration);
         it.condensed_solve = false;

@@ -117,7 +117,7 @@ pub(super) fn linearise(
     // the consistent tangent couples each sliding point's shear to its normal multiplier
     // (never on a solver that takes the matrix as symmetric: see `context::symmetric_tangent`)
     let coupling: Option<Vec<f64>> =
-        (scheme == Scheme::Newton && state.frozen_sigma_n.is_none() && !cx.system.stats.symmetric).then(|| {
+        (scheme == Scheme::Newton && state.frozen_sigma_n.is_none() && !cx.stats.solver.symmetric).then(|| {
             rows.springs
                 .iter()
                 .zip(&springs)
@@ -161,7 +161,7 @@ pub(super) fn linearise(
     let stretch: Option<Vec<Vec<(usize, f64)>>> = (scheme == Scheme::Newton
         && !it.fallbacks.elastic_springs
         && cx.options.analysis.reassociation != ReassociationRule::None
-        && !cx.system.stats.symmetric)
+        && !cx.stats.solver.symmetric)
         .then(|| {
             let rates = tributary_rates(&cx.model.mesh, &state.interfaces, &state.u);
             rows.springs
@@ -181,6 +181,6 @@ pub(super) fn linearise(
     let mut linear =
         Linearisation { rows, springs, tangent, soil_trial, coupling, dilation, stretch, stiffness, key: 0 };
     linear.key = linear.inputs(&cx.elements, dofs, state).fingerprint();
-    cx.system.stats.interface_seconds += t.elapsed().as_secs_f64();
+    cx.stats.interface_seconds += t.elapsed().as_secs_f64();
     linear
 }

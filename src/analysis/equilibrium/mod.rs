@@ -10,17 +10,16 @@
 //! stay, so the factorisation is reused and an iteration costs one solve) or its tangent (Newton);
 //! under the consistent Newton tangent the springs' shear is coupled to their normal multipliers.
 //!
-//! The files, in the order an iteration uses them:
+//! The files, in the order an increment uses them:
+//! - `settle.rs`: the passes over an increment that settle an embedded reinforcement's σn;
+//! - `iterations.rs` and `iterate.rs`: what an increment's iterations carry, and their loop;
 //! - `linearise.rs`: the rows, the springs' laws, the soil and the springs' stiffness at the
 //!   iterate ([`Linearisation`](linearise::Linearisation));
 //! - `solve.rs`: the one place that chooses how the system is solved, among three paths
 //!   ([`Path`](solve::Path)): on the interface alone, condensed, or in full;
-//! - `interface.rs` and `condensation.rs`: the interface iteration (the elastic soil condensed
-//!   onto the interface's unknowns, `linsol::condensed`) and its deferred interior;
-//! - `check.rs`: the update of the active set and the convergence test;
-//! - `settle.rs`: the passes over an increment that settle an embedded reinforcement's σn.
-//!
-//! - `iterations.rs` and `iterate.rs`: what an increment's iterations carry, and their loop.
+//! - `interface.rs` and `condensation.rs`: the interface iteration's side (the elastic soil
+//!   condensed onto the interface's unknowns, `linsol::condensed`) and its deferred interior;
+//! - `check.rs`: the update of the active set and the convergence test.
 //!
 //! [`increment`] is the one way in.
 

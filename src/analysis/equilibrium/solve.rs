@@ -14,6 +14,7 @@ use super::super::iteration_system::{iteration_system, IterationSystem};
 use super::super::non_finite::{self, Iterate};
 use super::super::singular::{self, Recovered, SingularMatrix};
 use super::super::state::State;
+use super::super::stats::Warning;
 use super::interface::{solve_condensed, solve_interface, start_on_interface};
 use super::iterations::{Iterations, Solution};
 use super::linearise::Linearisation;
@@ -101,7 +102,7 @@ fn solve_full(
     let element = it.carried_element_force.take();
     let IterationSystem { triplets, rhs, scale, active } =
         iteration_system(system, &linear.springs, state, !reuse, element);
-    cx.system.stats.assembly_seconds += t.elapsed().as_secs_f64();
+    cx.stats.solver.assembly_seconds += t.elapsed().as_secs_f64();
     let iterate =
         Iterate { mesh: &cx.model.mesh, dofs, state, soil_trial: Some(&linear.soil_trial), springs: &linear.springs };
     if rhs.iter().chain(&triplets.values).any(|v| !v.is_finite()) {
@@ -110,7 +111,7 @@ fn solve_full(
             return Err(IncrementError::NonFinite { iteration: it.iteration, first });
         }
     }
-    let reused = if reuse { cx.system.solve_again(&rhs).ok() } else { None };
+    let reused = if reuse { cx.system.solve_again(&mut cx.stats.solver, &rhs).ok() } else { None };
     it.matrix_key = Some(linear.key);
     let solved = match reused {
         Some(solution) => Ok(solution),
@@ -119,15 +120,20 @@ fn solve_full(
                 // the reused factorisation did not give a clean solution: assemble and factorise
                 let t = Instant::now();
                 let again = system.assemble();
-                cx.system.stats.assembly_seconds += t.elapsed().as_secs_f64();
+                cx.stats.solver.assembly_seconds += t.elapsed().as_secs_f64();
                 again
             } else {
                 let diagonal = singular::unconstrained_diagonal_of(&triplets, dofs.free_count);
-                singular::warn_if_ill_conditioned(&mut cx.system.stats, cx.model, dofs, state, &diagonal);
+                singular::warn_if_ill_conditioned(&mut cx.stats, cx.model, dofs, state, &diagonal);
                 triplets
             };
             // the list goes once the matrix is built, before the factorisation
-            cx.system.solve(dofs.size(), triplets, &rhs, active)
+            let solved = cx.system.solve(&mut cx.stats.solver, dofs.size(), triplets, &rhs, active);
+            if let Some((negative, active)) = cx.system.take_inertia_mismatch() {
+                let backend = cx.system.backend().name();
+                cx.stats.warnings.add(Warning::InertiaMismatch { backend, negative, active });
+            }
+            solved
         }
     };
     match solved {

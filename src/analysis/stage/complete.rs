@@ -10,6 +10,7 @@ use super::super::sink::{StepRecord, StepSink};
 use super::super::soil;
 use super::super::springs;
 use super::super::state::State;
+use super::super::stats::Warning;
 use super::progress::{Increment, Stage};
 use crate::error::Error;
 use crate::interface::reassociate::{self, Reassociation};
@@ -35,11 +36,11 @@ pub fn complete_increment(
     let output_started = Instant::now();
     let results = step_results(cx, stage, state, &report);
     let balance = check_balance(cx, stage, at, &results, state);
-    cx.system.stats.output_seconds += output_started.elapsed().as_secs_f64();
+    cx.stats.output_seconds += output_started.elapsed().as_secs_f64();
     let search_started = Instant::now();
     let reassociations = reassociate_points(cx, state);
     let redundant_rows = remark_redundant(cx, stage, state);
-    cx.system.stats.interface_seconds += search_started.elapsed().as_secs_f64();
+    cx.stats.interface_seconds += search_started.elapsed().as_secs_f64();
     accept_displacements(state);
     let record = step_record(stage, state, report, at, redundant_rows, reassociations, balance);
     hand_over(cx, sink, &results, &record)
@@ -77,14 +78,15 @@ fn check_balance(
         } else {
             "the model's largest nodal force"
         };
-        let warning = format!(
-            "reinforcement \"{}\": the forces applied to its nodes ({:.6e}, {:.6e}) and those its interfaces carry ({:.6e}, {:.6e}) differ by {:.1e} of {of}, beyond ten times the force tolerance (first in stage \"{}\", step {})",
-            b.interface, b.applied[0], b.applied[1], b.interface_force[0], b.interface_force[1], b.mismatch, stage.plan.name, at.step
-        );
-        let known = format!("reinforcement \"{}\": the forces applied", b.interface);
-        if !cx.system.stats.warnings.iter().any(|w| w.starts_with(&known)) {
-            cx.system.stats.warnings.push(warning);
-        }
+        cx.stats.warnings.add(Warning::ReinforcementBalance {
+            interface: b.interface.clone(),
+            applied: b.applied,
+            carried: b.interface_force,
+            mismatch: b.mismatch,
+            of,
+            stage: stage.plan.name.clone(),
+            step: at.step,
+        });
     }
     balance
 }
@@ -174,7 +176,7 @@ fn hand_over(
     record: &StepRecord,
 ) -> Result<(), Error> {
     let written = Instant::now();
-    sink.step_done(results, record, &cx.system.stats)?;
-    cx.system.stats.output_seconds += written.elapsed().as_secs_f64();
+    sink.step_done(results, record, &cx.stats)?;
+    cx.stats.output_seconds += written.elapsed().as_secs_f64();
     Ok(())
 }

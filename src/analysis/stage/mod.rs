@@ -5,14 +5,14 @@
 
 mod complete;
 mod placement;
-mod progress;
+pub(in crate::analysis) mod progress;
 
 pub use complete::complete_increment;
-pub use progress::{Increment, Stage};
+pub use progress::{Increment, Stage, StageProgress};
 
 use placement::{placed_nodes, unbalance, with_absent_nodes};
 
-use super::checkpoint::{Checkpoint, ModelPrint, StageProgress};
+use super::checkpoint::{Checkpoint, ModelPrint};
 use super::context::Context;
 use super::equilibrium::{self, EmbeddedSigmaN};
 use super::loads::external_force;
@@ -21,6 +21,7 @@ use super::sink::StepSink;
 use super::soil;
 use super::springs::normal_stress;
 use super::state::State;
+use super::stats::Warning;
 use crate::dofs::{dof, DofMap};
 use crate::error::Error;
 use crate::interface::active_set::place_contacts;
@@ -222,10 +223,6 @@ fn warn_of_unloaded_freeze(cx: &mut Context, state: &State, plan: &StagePlan, ro
         .collect();
     let unloaded = in_contact.iter().filter(|&&f| !(f > 0.0)).count();
     if unloaded > 0 && unloaded == in_contact.len() {
-        let warning = format!(
-            "stage \"{}\" freezes σn at its start, where no interface point in contact is compressed yet ({unloaded} points at σn ≤ 0): their shear strength through the stage is the cohesion alone; set freeze_normal_stress = false on that stage",
-            plan.name
-        );
-        cx.system.stats.warn(warning);
+        cx.stats.warnings.add(Warning::UnloadedFreeze { stage: plan.name.clone(), unloaded });
     }
 }

@@ -1,8 +1,10 @@
-//! A stage once it is set up, with its progress, and where a converged increment sits in it.
+//! A stage once it is set up, with its progress (what a saved step keeps of it), and where a
+//! converged increment sits in it.
 
-use super::super::checkpoint::StageProgress;
+use super::super::predictor::LastIncrement;
 use crate::dofs::DofMap;
 use crate::model::StagePlan;
+use serde::{Deserialize, Serialize};
 use std::time::Instant;
 
 /// A stage once it is set up.
@@ -27,4 +29,24 @@ pub struct Increment {
     pub started: Instant,
     /// A loading history's factor reverses at this step.
     pub reversal: bool,
+}
+
+/// Where a stage is: its set-up's results and the load factors still to reach.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct StageProgress {
+    pub redundant: Vec<String>,
+    pub force: Vec<f64>,
+    pub f_ext_start: Vec<f64>,
+    pub unbalance: Vec<f64>,
+    /// Displacements when the stage started (prescribed displacements count from them).
+    pub u_start: Vec<f64>,
+    /// Load factors still to reach (empty: the stage is complete).
+    pub targets: Vec<f64>,
+    pub reached: f64,
+    /// Steps of the plan reached.
+    pub planned: usize,
+    /// Cutbacks of the increment in progress.
+    pub cutbacks: usize,
+    /// The stage's last converged increment (what `extrapolation = "linear"` carries on).
+    pub last: Option<LastIncrement>,
 }

@@ -22,7 +22,7 @@
 //! matrix, and its factorisation and S₁₁ are the last condensation's: they are kept, known by the
 //! reduced L's fingerprint (its pattern, values and K₁), and the backend is not called. (A
 //! fingerprint that matched a different matrix would be caught by the first solve's residual,
-//! which is checked against the whole L + C: see `condensed.rs`.)
+//! which is checked against the whole L + C: see `ready.rs`.)
 
 use super::condensing::Condensing;
 use super::kept::KeptUnknowns;

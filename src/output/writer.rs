@@ -1,0 +1,521 @@
+//! The result writer: every step's files as it converges (the fields, the history, the summary),
+//! and at the end the report and the plots. The module comment of `output` says how each file is
+//! kept whole.
+
+use super::figures::{self, profile, StepProfile};
+use super::folder::path_component;
+use super::{checkpoints, events, grids, pace, report, step_tables, vtk};
+#[cfg(feature = "hdf5")]
+use super::{hdf5_thread, results_h5};
+
+use super::options::{self, OutputOptions};
+use super::owned_folder::OwnedFolder;
+use super::summary::{FieldFiles, RunSummary, TargetPeak, Unknowns};
+
+use super::history::{self, HistoryRow};
+use super::kept_steps::{HeldStep, HeldSteps};
+use crate::analysis::results::StepResults;
+use crate::analysis::RunStats;
+use crate::analysis::{StepRecord, StepSink};
+use crate::error::Error;
+use crate::model::file::Direction;
+use crate::model::{Model, UnitLabels};
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+/// A prescribed target followed through the run: its mean displacement and total reaction.
+struct Target {
+    label: String,
+    nodes: Vec<usize>,
+    direction: Direction,
+}
+
+/// Writes each step under `<out>/stage-<k>-<name>/step-<nnn>/` and keeps `summary.json` and
+/// `history.csv` current.
+pub struct ResultWriter {
+    out: PathBuf,
+    /// The output folder's handle: every file of the run is written through it.
+    folder: OwnedFolder,
+    units: UnitLabels,
+    targets: Vec<Target>,
+    history: Vec<HistoryRow>,
+    /// Largest |reaction| so far per target, and whether a drop from it was reported.
+    peak_reaction: Vec<(f64, bool)>,
+    /// The target's displacement where its reaction peaked.
+    peak_displacement: Vec<f64>,
+    /// What has happened so far, and each stage's end.
+    events: events::Events,
+    /// Profiles along each reinforcement, per step, for the plots.
+    profiles: Vec<StepProfile>,
+    /// Steps worth plotting: where slip starts, where everything slides.
+    marked_steps: Vec<usize>,
+    /// Each reinforcement interface and its nodes.
+    reinforcements: Vec<figures::ReinforcementNodes>,
+    /// The field files asked for.
+    options: OutputOptions,
+    /// The grids' fixed parts, for the `.vtu` and HDF5 files.
+    layout: Arc<grids::GridLayout>,
+    /// ParaView `.vtu` grids and their `.pvd` collection, when written.
+    vtk: Option<vtk::VtkWriter>,
+    /// `results.h5` and its `results.xdmf`.
+    #[cfg(feature = "hdf5")]
+    h5: Option<hdf5_thread::Hdf5Thread>,
+    /// Steps held back until they prove to be kept (`--keep events` or `N`).
+    held: HeldSteps,
+    /// When the files written whole (the index, history.csv, summary.json) are next rewritten.
+    pace: pace::Pace,
+    pub summary: RunSummary,
+}
+
+impl ResultWriter {
+    /// The prescribed targets the history follows: (label, `x` or `y`, nodes). Its displacement is
+    /// the mean over the nodes, its reaction the sum.
+    pub fn targets(&self) -> Vec<(String, &'static str, Vec<usize>)> {
+        self.targets
+            .iter()
+            .map(|t| (t.label.clone(), if t.direction == Direction::X { "x" } else { "y" }, t.nodes.clone()))
+            .collect()
+    }
+
+    /// A writer of every step's fields in the build's default files (no per-step CSV files).
+    ///
+    /// # Errors
+    /// [`Error::Write`] naming what could not be written or cleared in `out`.
+    pub fn new(model: &Model, out: &Path, solver: &str) -> Result<Self, Error> {
+        Self::with_options(model, out, solver, &OutputOptions::default())
+    }
+
+    /// A writer of the field files `options` asks for.
+    ///
+    /// # Errors
+    /// [`Error::Write`] naming what could not be written or cleared in `out`.
+    pub fn with_options(model: &Model, out: &Path, solver: &str, options: &OutputOptions) -> Result<Self, Error> {
+        let folder = OwnedFolder::open(out, &Self::inputs(model))?;
+        Self::with_folder(model, folder, solver, options)
+    }
+
+    /// The files a run of `model` reads, which its output never replaces or removes: the model
+    /// file and its mesh.
+    pub fn inputs(model: &Model) -> Vec<&Path> {
+        let mut inputs = vec![model.source.as_path()];
+        if let Some(mesh) = &model.mesh_source {
+            inputs.push(mesh.file.as_path());
+        }
+        inputs
+    }
+
+    /// A writer into `folder`, opened already (a run of a series, in its series' folder).
+    ///
+    /// # Errors
+    /// [`Error::Write`] naming what could not be written in the folder.
+    pub fn with_folder(
+        model: &Model,
+        folder: OwnedFolder,
+        solver: &str,
+        options: &OutputOptions,
+    ) -> Result<Self, Error> {
+        let out = folder.path().to_path_buf();
+        let out = out.as_path();
+        let mut targets = Vec::new();
+        for stage in &model.stages {
+            for &(n, d, _) in &stage.prescribed {
+                let set = model.node_sets.iter().find(|(_, nodes)| nodes.contains(&n)).map(|(name, _)| name.clone());
+                let label = set.unwrap_or_else(|| format!("node {}", model.mesh.node_id(n)));
+                match targets.iter_mut().find(|t: &&mut Target| t.label == label && t.direction == d) {
+                    Some(t) => {
+                        if !t.nodes.contains(&n) {
+                            t.nodes.push(n)
+                        }
+                    }
+                    None => targets.push(Target { label, nodes: vec![n], direction: d }),
+                }
+            }
+        }
+        let units = model.unit_labels();
+        if let Some(generated) = model.mesh_source.as_ref().and_then(|m| m.generated.as_ref()) {
+            folder.write("mesh.msh", &generated.msh)?;
+        }
+        let mut files = Vec::new();
+        if options.writes_hdf5() {
+            files.extend(["results.h5".to_string(), "results.xdmf".to_string()]);
+        }
+        if options.writes_vtu() {
+            files.push("results.pvd".to_string());
+        }
+        let layout = Arc::new(grids::GridLayout::new(model));
+        #[allow(unused_mut)] // its HDF5 file is added after the first summary
+        let mut writer = ResultWriter {
+            vtk: options.writes_vtu().then(|| vtk::VtkWriter::new(folder.clone())),
+            #[cfg(feature = "hdf5")]
+            h5: None,
+            held: HeldSteps::new(targets.len()),
+            pace: pace::Pace::default(),
+            events: events::Events::new(
+                model
+                    .stages
+                    .iter()
+                    .map(|s| if s.strength_reduction.is_some() { None } else { s.load_factors.last().copied() })
+                    .collect(),
+            ),
+            options: *options,
+            layout,
+            out: out.to_path_buf(),
+            folder: folder.clone(),
+            peak_reaction: vec![(0.0, false); targets.len()],
+            peak_displacement: vec![0.0; targets.len()],
+            targets,
+            history: Vec::new(),
+            profiles: Vec::new(),
+            marked_steps: Vec::new(),
+            reinforcements: model
+                .interfaces
+                .iter()
+                .filter_map(|i| {
+                    model.node_sets.get(&format!("{}.reinforcement", i.name)).map(|nodes| {
+                        let mut indices = nodes.clone();
+                        indices.sort_unstable();
+                        indices.dedup();
+                        figures::ReinforcementNodes {
+                            name: i.name.clone(),
+                            ids: indices.iter().map(|&n| model.mesh.node_id(n)).collect(),
+                            indices,
+                        }
+                    })
+                })
+                .collect(),
+            summary: RunSummary {
+                geoslip_version: env!("CARGO_PKG_VERSION"),
+                model: model.source.display().to_string(),
+                title: model.title.clone(),
+                status: "running".into(),
+                error: None,
+                solver: solver.into(),
+                units: serde_json::json!({
+                    "length": units.length, "force": units.force,
+                    "force_per_width": units.force_per_width, "stress": units.stress,
+                    "geometry": model.mesh.geometry,
+                    "forces": if model.mesh.geometry.is_axisymmetric() { "total over the circumference" } else { "per metre width" } }),
+                unknowns: Unknowns {
+                    nodes: model.mesh.nodes.len(),
+                    soil_elements: model.mesh.solids.len(),
+                    bars: model.mesh.bars.len(),
+                    interface_points: model.interfaces.iter().flat_map(|i| &i.faces).map(|f| f.points.len()).sum(),
+                },
+                notes: model.notes.clone(),
+                events: Vec::new(),
+                factors_of_safety: Vec::new(),
+                fields: FieldFiles {
+                    files,
+                    csv: options.csv,
+                    keep: options.keep.to_string(),
+                    precision: options.writes_hdf5().then_some(match options.precision {
+                        options::FieldPrecision::Single => "single",
+                        options::FieldPrecision::Double => "double",
+                    }),
+                    kept_steps: Vec::new(),
+                },
+                steps: Vec::new(),
+                solver_stats: RunStats::default(),
+                total_seconds: 0.0,
+                write_seconds: 0.0,
+                writer_thread_seconds: None,
+            },
+            units,
+        };
+        // at once, so that a run killed before its first step leaves a folder the next run
+        // recognises as geoslip's (and clears)
+        writer.write_summary()?;
+        #[cfg(feature = "hdf5")]
+        {
+            let labels: Vec<(String, &str)> = writer
+                .targets
+                .iter()
+                .map(|t| (t.label.clone(), if t.direction == Direction::X { "x" } else { "y" }))
+                .collect();
+            let history: Vec<results_h5::HistoryTarget<'_>> =
+                labels.iter().map(|(label, direction)| results_h5::HistoryTarget { label, direction }).collect();
+            let results = results_h5::Hdf5Results::create(
+                &writer.folder,
+                &model.title,
+                &writer.units,
+                &writer.layout,
+                &history,
+                options.precision,
+            )?;
+            writer.h5 = Some(hdf5_thread::Hdf5Thread::start(results, writer.layout.clone(), writer.folder.clone())?);
+        }
+        Ok(writer)
+    }
+
+    /// Each prescribed target's largest |reaction| so far, and the displacement where it occurred.
+    pub fn peak_reactions(&self) -> Vec<TargetPeak> {
+        self.targets
+            .iter()
+            .enumerate()
+            .map(|(i, t)| TargetPeak {
+                label: t.label.clone(),
+                direction: t.direction,
+                reaction: self.peak_reaction[i].0,
+                displacement: self.peak_displacement[i],
+            })
+            .collect()
+    }
+
+    /// The output folder, as the user named it.
+    pub fn out(&self) -> &Path {
+        &self.out
+    }
+
+    /// The folder of a step's CSV files, inside the output folder.
+    pub fn step_dir(&self, record: &StepRecord) -> String {
+        let name = path_component(&record.stage);
+        format!("stage-{}-{}/step-{:03}", record.stage_index + 1, name, record.step)
+    }
+
+    pub fn write_summary(&mut self) -> Result<(), Error> {
+        let json = serde_json::to_vec_pretty(&self.summary).unwrap_or_default();
+        self.replace_file("summary.json", json)
+    }
+
+    /// Replace the file `name` of the output folder with `bytes`, atomically and synced: on the
+    /// `results.h5` thread while a run has one (after what was handed to it, so that the file
+    /// never runs ahead of `results.xdmf`), here otherwise.
+    fn replace_file(&mut self, name: &str, bytes: Vec<u8>) -> Result<(), Error> {
+        #[cfg(feature = "hdf5")]
+        if let Some(h5) = self.h5.as_mut().filter(|h5| h5.running()) {
+            return h5.replace_file(name.to_string(), bytes);
+        }
+        self.folder.write(name, &bytes)
+    }
+
+    /// Mark the run finished (or failed), write the summary a last time, and the report.
+    pub fn finish(
+        &mut self,
+        model: &Model,
+        error: Option<&Error>,
+        stats: Option<RunStats>,
+        seconds: f64,
+    ) -> Result<(), Error> {
+        let started = std::time::Instant::now();
+        // the last step of the run, if it was held back
+        if let Some(last) = self.held.latest.take() {
+            self.write_held(&last)?;
+        }
+        #[cfg(feature = "hdf5")]
+        if let Some(h5) = &mut self.h5 {
+            h5.finish()?;
+            self.summary.writer_thread_seconds = h5.cpu_seconds();
+        }
+        self.summary.status = if error.is_some() { "failed".into() } else { "completed".into() };
+        self.summary.error = error.map(|e| e.to_string());
+        if let Some(s) = stats {
+            self.summary.solver_stats = s;
+        }
+        self.summary.total_seconds = seconds;
+        self.rewrite_growing_files()?;
+        let figures = self.figures().write()?;
+        let report = report::markdown(model, &self.summary, &self.history, &self.units, &figures);
+        self.folder.write("report.md", report.as_bytes())?;
+        // once more, with the time the writer took to the end
+        self.summary.write_seconds += started.elapsed().as_secs_f64();
+        self.write_summary()
+    }
+
+    /// Write the fields of step number `time` in every field file asked for, unless they are
+    /// written already.
+    fn write_fields(&mut self, time: usize, record: &StepRecord, results: &StepResults) -> Result<(), Error> {
+        let kept = &mut self.summary.fields.kept_steps;
+        let Err(at) = kept.binary_search(&time) else { return Ok(()) };
+        kept.insert(at, time);
+        if self.options.csv {
+            // the step's folder appears whole or not at all: written beside it, then renamed into
+            // place (over the same step of an earlier run into this folder)
+            let dir = self.step_dir(record);
+            let partial = self.folder.temporary_folder(&dir)?;
+            step_tables::write_step_files(&self.folder, &self.units, &partial, results)?;
+            self.folder.move_folder(&partial, &dir)?;
+        }
+        if self.vtk.is_none() && !self.options.writes_hdf5() {
+            return Ok(());
+        }
+        let grids = self.layout.step(results);
+        if let Some(vtk) = &mut self.vtk {
+            vtk.write_step(time, &self.layout, &grids)?;
+        }
+        #[cfg(feature = "hdf5")]
+        if let Some(h5) = &mut self.h5 {
+            h5.write_step(time, record, grids)?;
+        }
+        Ok(())
+    }
+
+    fn write_held(&mut self, held: &HeldStep) -> Result<(), Error> {
+        self.write_fields(held.time, &held.record, &held.results)
+    }
+}
+
+impl StepSink for ResultWriter {
+    fn keeps_checkpoints(&self) -> bool {
+        !self.options.no_restart
+    }
+
+    fn checkpoint(&mut self, checkpoint: &crate::analysis::Checkpoint) -> Result<(), Error> {
+        checkpoints::write(&self.folder, checkpoint)
+    }
+
+    fn factor_of_safety(&mut self, fs: &crate::analysis::FactorOfSafety) -> Result<(), Error> {
+        let bracket = match (fs.failed_at, &fs.failure) {
+            (Some(f), Some(why)) => format!("at F = {f:.4}: {why}"),
+            (Some(f), None) => format!("no equilibrium at F = {f:.4}"),
+            (None, _) => "equilibrium up to the largest factor tried: FS is at least this".to_string(),
+        };
+        self.summary.events.push(format!(
+            "stage \"{}\": factor of safety FS = {:.3} by strength reduction of the {} ({bracket})",
+            fs.stage, fs.value, fs.reduced
+        ));
+        self.summary.factors_of_safety.push(fs.clone());
+        // at once, whatever the pace (the index first, so the summary is not ahead of it)
+        #[cfg(feature = "hdf5")]
+        if let Some(h5) = self.h5.as_mut().filter(|h5| h5.running()) {
+            h5.commit(true)?;
+        }
+        self.rewrite_growing_files()
+    }
+
+    fn step_done(&mut self, results: &StepResults, record: &StepRecord, stats: &RunStats) -> Result<(), Error> {
+        let started = std::time::Instant::now();
+        let time = self.summary.steps.len() + 1;
+        let when = events::when(record);
+        let index = self.summary.steps.len();
+        let mut event = self.events.of_step(record, index, &mut self.summary.events, &mut self.marked_steps);
+        // the targets' displacement and reaction; a new peak, or a fall from one
+        let mut values = Vec::with_capacity(self.targets.len());
+        let (mut peaked, mut fell) = (Vec::new(), Vec::new());
+        for (ti, t) in self.targets.iter().enumerate() {
+            let d = |n: usize| 2 * n + if t.direction == Direction::X { 0 } else { 1 };
+            let mean_u = t.nodes.iter().map(|&n| results.displacement_vector[d(n)]).sum::<f64>() / t.nodes.len() as f64;
+            let reaction: f64 = t.nodes.iter().map(|&n| results.reaction_vector[d(n)]).sum();
+            let (peak, reported) = self.peak_reaction[ti];
+            if peak > 0.0 && !reported && reaction.abs() < 0.98 * peak {
+                self.summary.events.push(format!(
+                    "{when}: the reaction on {} ({}) fell to {:.4} at displacement {:.5}, from its peak {:.4} at displacement {:.5}",
+                    t.label,
+                    if t.direction == Direction::X { "x" } else { "y" },
+                    reaction.abs(),
+                    mean_u,
+                    peak,
+                    self.peak_displacement[ti]
+                ));
+                self.peak_reaction[ti].1 = true; // once per peak
+                event = true;
+                fell.push(ti);
+            } else if reaction.abs() > peak {
+                self.peak_reaction[ti] = (reaction.abs(), false);
+                self.peak_displacement[ti] = mean_u;
+                peaked.push(ti);
+            }
+            self.history.push(HistoryRow {
+                stage: record.stage.clone(),
+                step: record.step,
+                load_factor: record.load_factor,
+                target: t.label.clone(),
+                direction: if t.direction == Direction::X { "x" } else { "y" },
+                displacement: mean_u,
+                reaction,
+            });
+            values.push((mean_u, reaction));
+        }
+
+        // the fields: this step's if it is kept; the step before, held back, if this one starts
+        // another stage (it was the last of its own); a peak held back, once the reaction falls
+        // from it
+        if let Some(before) = self.held.latest.take() {
+            if before.record.stage_index != record.stage_index {
+                self.write_held(&before)?;
+            }
+        }
+        let keep = self.options.keep.keeps(time, event);
+        let held = (self.options.keep.thins() && !keep).then(|| HeldStep {
+            time,
+            record: record.clone(),
+            results: Arc::new(results.clone()),
+        });
+        if keep {
+            self.write_fields(time, record, results)?;
+        }
+        for ti in peaked {
+            self.held.peaks[ti] = held.clone();
+        }
+        for ti in fell {
+            if let Some(peak) = self.held.peaks[ti].take() {
+                self.write_held(&peak)?;
+            }
+        }
+        self.held.latest = held;
+        // the files written whole, at this step if they are due
+        let rewrite = self.pace.due();
+        #[cfg(feature = "hdf5")]
+        if let Some(h5) = &mut self.h5 {
+            h5.append_history(time, record, &values)?;
+            h5.commit(rewrite)?;
+        }
+        self.profiles.push(StepProfile {
+            label: format!("{} step {}", record.stage, record.step),
+            reinforcements: self.reinforcements.iter().map(|nodes| profile(nodes, results)).collect(),
+        });
+        self.summary.steps.push(record.clone());
+        self.summary.solver_stats = stats.clone();
+        self.summary.write_seconds += started.elapsed().as_secs_f64();
+        if !rewrite {
+            return Ok(());
+        }
+        let rewriting = std::time::Instant::now();
+        self.rewrite_growing_files()?;
+        let took = rewriting.elapsed();
+        self.summary.write_seconds += took.as_secs_f64();
+        // (with the writer thread's time on the same files, as far as it has got)
+        #[cfg(feature = "hdf5")]
+        let took = took + self.h5.as_ref().map_or(std::time::Duration::ZERO, |h5| h5.take_rewrite_time());
+        self.pace.rewritten(took);
+        Ok(())
+    }
+}
+
+impl ResultWriter {
+    /// Rewrite the files written whole that grow with the run: the `.pvd` collection,
+    /// `history.csv` and `summary.json` (`results.xdmf` with the commit: `h5.commit(true)`).
+    fn rewrite_growing_files(&mut self) -> Result<(), Error> {
+        if let Some(vtk) = &self.vtk {
+            vtk.write_collection()?;
+        }
+        let csv = history::csv(&self.history, &self.units);
+        self.replace_file("history.csv", csv)?;
+        self.write_summary()
+    }
+
+    /// What the figures are drawn from: the history of each prescribed target, the profiles.
+    fn figures(&self) -> figures::Figures<'_> {
+        let curves = self
+            .targets
+            .iter()
+            .map(|t| {
+                let dir = if t.direction == Direction::X { "x" } else { "y" };
+                let points = self
+                    .history
+                    .iter()
+                    .filter(|h| h.target == t.label && h.direction == dir)
+                    .map(|h| (h.displacement, h.reaction))
+                    .collect();
+                (t.label.as_str(), dir, points)
+            })
+            .collect();
+        figures::Figures {
+            folder: &self.folder,
+            units: &self.units,
+            curves,
+            profiles: &self.profiles,
+            marked_steps: &self.marked_steps,
+            reinforcements: self.reinforcements.iter().map(|nodes| nodes.name.as_str()).collect(),
+        }
+    }
+}
