@@ -14,7 +14,8 @@
 #      what differs in it: the commands, the .vtu output, killed runs, the paper's examples);
 # and the Python package (python/, PyO3 + maturin) with its pytest tests against the CLI and the
 # parameter-study example (maturin, pytest, NumPy and matplotlib from PyPI into target/python-env).
-# It first checks the code's layout (scripts/check-imports.py).
+# It first checks the code's layout (scripts/check-imports.py) and that docs/architecture.md names
+# every source file (scripts/check-architecture.py).
 # This is the command the README gives and the one CI runs (.ci/run).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -52,8 +53,9 @@ else
   echo "== libhdf5 is not installed: the full build is tested without the hdf5 feature"
 fi
 
-echo "== layout: no import circle, no core module on the file format"
+echo "== layout: no import circle, no core module on the file format, every source file in docs/architecture.md"
 python3 scripts/check-imports.py
+python3 scripts/check-architecture.py
 
 echo "== full build: backends"
 cargo build --locked --quiet "${features[@]}"
