@@ -26,6 +26,15 @@ const HISTORY_CHUNK: usize = 256;
 /// larger).
 pub(super) const DEFLATE_LEVEL: u8 = 1;
 
+/// Who filters a step field's chunks. The contract between geoslip's filter (`chunk_deflate.rs`:
+/// the bytes shuffled by their size, then deflated at [`DEFLATE_LEVEL`] in zlib's format) and the
+/// field dataset's filter pipeline (the shuffle filter, then deflate at the same level) is that a
+/// chunk filtered either way is read back by libhdf5, and any HDF5 reader, as the same values.
+/// `true`: geoslip filters the chunks and stores them past the pipeline (`native::hdf5_chunk`), an
+/// all-zero chunk not at all (about twice as fast: docs/performance.md, "Results that take no
+/// time"); `false`: the library's own filters do, from the same dataset definition.
+pub(super) const OWN_CHUNK_FILTER: bool = true;
+
 /// A numeric type of a dataset, with its XDMF number type.
 pub(super) trait Stored: H5Type + Copy {
     const NUMBER: NumberType;
@@ -51,6 +60,8 @@ pub(super) struct ArrayWriter<'a> {
     pub compress: bool,
     pub precision: FieldPrecision,
     pub deflater: &'a RefCell<ChunkDeflater>,
+    /// Whether geoslip filters the field chunks itself ([`OWN_CHUNK_FILTER`]).
+    pub own_filter: bool,
 }
 
 impl ArrayWriter<'_> {
@@ -98,34 +109,40 @@ impl ArrayWriter<'_> {
         unit: Option<&str>,
     ) -> hdf5::Result<DataRef> {
         let compressed = self.compress && data.len() >= SMALL_VALUES;
-        match (self.precision, compressed) {
+        let (dataset, dims, number) = match (self.precision, compressed) {
             (FieldPrecision::Double, true) => {
-                self.chunked_field::<f64, 8>(group, name, data, columns, unit, f64::to_ne_bytes)
+                self.chunked_field::<f64, 8>(group, name, data, columns, |v| v, f64::to_ne_bytes)?
             }
             // each value rounded to the nearest single-precision number
             (FieldPrecision::Single, true) => {
-                self.chunked_field::<f32, 4>(group, name, data, columns, unit, |v| (v as f32).to_ne_bytes())
+                self.chunked_field::<f32, 4>(group, name, data, columns, |v| v as f32, |v| (v as f32).to_ne_bytes())?
             }
             // uncompressed (no deflate in the library) or too small to chunk
-            (FieldPrecision::Double, false) => self.table(group, name, data, columns, unit),
+            (FieldPrecision::Double, false) => return self.table(group, name, data, columns, unit),
             (FieldPrecision::Single, false) => {
                 let single: Vec<f32> = data.iter().map(|&v| v as f32).collect();
-                self.table(group, name, &single, columns, unit)
+                return self.table(group, name, &single, columns, unit);
             }
+        };
+        if let Some(u) = unit {
+            text_attr(&dataset, "unit", u)?;
         }
+        Ok(DataRef { path: dataset.name(), dims, number })
     }
 
-    /// `data` (`rows × columns`, `S` bytes a value in the dataset's type `T` as `bytes` gives
-    /// them) as a dataset behind the shuffle and deflate filters whose chunks are filtered here.
+    /// `data` (`rows × columns`, each value in the dataset's type `T` as `value` gives it, its `S`
+    /// bytes as `bytes` does) as a dataset behind the shuffle and deflate filters, a column a
+    /// chunk, whose chunks are filtered here ([`OWN_CHUNK_FILTER`]) or by the library. Returns the
+    /// dataset, its dimensions and its number type.
     fn chunked_field<T: Stored + Default, const S: usize>(
         &self,
         group: &Group,
         name: &str,
         data: &[f64],
         columns: usize,
-        unit: Option<&str>,
+        value: impl Fn(f64) -> T,
         bytes: impl Fn(f64) -> [u8; S],
-    ) -> hdf5::Result<DataRef> {
+    ) -> hdf5::Result<(Dataset, Vec<usize>, NumberType)> {
         let columns = columns.max(1);
         let rows = data.len() / columns;
         let chunk_rows = rows.div_ceil(rows.div_ceil(CHUNK_VALUES).max(1)).max(1);
@@ -139,6 +156,13 @@ impl ArrayWriter<'_> {
             .deflate(DEFLATE_LEVEL)
             .fill_value(T::default())
             .create(name)?;
+        if !self.own_filter {
+            let values: Vec<T> = data.iter().map(|&v| value(v)).collect();
+            if rows > 0 {
+                dataset.write_raw(&values)?;
+            }
+            return Ok((dataset, dims, T::NUMBER));
+        }
         // the table's columns one after another, each value as the dataset stores it, in one
         // pass over the rows (a column read alone from the rows would touch every row's cache
         // line once a column)
@@ -157,10 +181,8 @@ impl ArrayWriter<'_> {
                 hdf5_chunk::write_chunk(&dataset, &offset, deflated)?;
             }
         }
-        if let Some(u) = unit {
-            text_attr(&dataset, "unit", u)?;
-        }
-        Ok(DataRef { path: dataset.name(), dims, number: T::NUMBER })
+        drop(deflater);
+        Ok((dataset, dims, T::NUMBER))
     }
 
     /// An empty one-dimensional dataset that grows by one entry a step.
@@ -211,17 +233,20 @@ mod tests {
                 [x, y, 0.0]
             })
             .collect();
-        for precision in [FieldPrecision::Single, FieldPrecision::Double] {
-            let w = ArrayWriter { compress: true, precision, deflater: &deflater };
-            let name = format!("{precision:?}");
+        for (precision, own_filter) in
+            [FieldPrecision::Single, FieldPrecision::Double].into_iter().flat_map(|p| [(p, true), (p, false)])
+        {
+            let w = ArrayWriter { compress: true, precision, deflater: &deflater, own_filter };
+            let name = format!("{precision:?}-{own_filter}");
             let data_ref = w.field(&file, &name, &data, 3, Some("m")).unwrap();
             assert_eq!(data_ref.dims, vec![rows, 3]);
             let dataset = file.dataset(&name).unwrap();
             let chunk = dataset.chunk().unwrap();
             assert_eq!(chunk[1], 1, "a column a chunk");
             assert!(chunk[0] <= CHUNK_VALUES && rows.div_ceil(chunk[0]) == 3, "{chunk:?}");
-            // x's three chunks and y's first (its negative zero); the other zero chunks not stored
-            assert_eq!(dataset.num_chunks(), Some(4));
+            // geoslip's filter: x's three chunks and y's first (its negative zero); the other zero
+            // chunks not stored. The library's: every chunk
+            assert_eq!(dataset.num_chunks(), Some(if own_filter { 4 } else { 9 }), "own filter: {own_filter}");
             let filters = dataset.filters();
             assert!(filters.iter().any(|f| matches!(f, hdf5::filters::Filter::Shuffle)), "{filters:?}");
             assert!(filters.iter().any(|f| matches!(f, hdf5::filters::Filter::Deflate(_))), "{filters:?}");

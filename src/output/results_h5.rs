@@ -44,7 +44,7 @@
 
 use super::chunk_deflate::ChunkDeflater;
 use super::grids::{GridLayout, StepGrids};
-use super::h5_arrays::{new_group, number_attr, text_attr, ArrayWriter, DEFLATE_LEVEL};
+use super::h5_arrays::{new_group, number_attr, text_attr, ArrayWriter, DEFLATE_LEVEL, OWN_CHUNK_FILTER};
 use super::options::FieldPrecision;
 use super::owned_folder::OwnedFolder;
 use super::xdmf::{self, Center, DataRef, Field, GridStep, KeptStep, Topology, TopologyType};
@@ -167,7 +167,7 @@ impl Hdf5Results {
         text_attr(&file, "geoslip_version", env!("CARGO_PKG_VERSION")).map_err(&fail)?;
         text_attr(&file, "title", title).map_err(&fail)?;
         text_attr(&file, "xdmf", XDMF_NAME).map_err(&fail)?;
-        let writer = ArrayWriter { compress, precision, deflater: &deflater };
+        let writer = ArrayWriter { compress, precision, deflater: &deflater, own_filter: OWN_CHUNK_FILTER };
         let mesh = new_group(&file, "mesh").map_err(&fail)?;
         new_group(&file, "steps").map_err(&fail)?;
 
@@ -252,7 +252,12 @@ impl Hdf5Results {
 
     /// A writer of datasets in this file's precision and compression.
     fn writer(&self) -> ArrayWriter<'_> {
-        ArrayWriter { compress: self.compress, precision: self.precision, deflater: &self.deflater }
+        ArrayWriter {
+            compress: self.compress,
+            precision: self.precision,
+            deflater: &self.deflater,
+            own_filter: OWN_CHUNK_FILTER,
+        }
     }
 
     /// The file's path.

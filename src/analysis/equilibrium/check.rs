@@ -8,7 +8,7 @@ use super::super::soil;
 use super::super::springs;
 use super::super::state::State;
 use super::condensation::{BalancedInterior, Deferred};
-use super::interface::finish_interface;
+use super::interface_path::finish_interface;
 use super::iterations::{IncrementReport, Iterations};
 use super::linearise::clip;
 use crate::assembly::{soil_and_bar_force_and_floor, SoilView};

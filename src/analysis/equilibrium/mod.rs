@@ -17,7 +17,7 @@
 //!   iterate ([`Linearisation`](linearise::Linearisation));
 //! - `solve.rs`: the one place that chooses how the system is solved, among three paths
 //!   ([`Path`](solve::Path)): on the interface alone, condensed, or in full;
-//! - `interface.rs` and `condensation.rs`: the interface iteration's side (the elastic soil
+//! - `interface_path.rs` and `condensation.rs`: the interface iteration's side (the elastic soil
 //!   condensed onto the interface's unknowns, `linsol::condensed`) and its deferred interior;
 //! - `check.rs`: the update of the active set and the convergence test.
 //!
@@ -25,7 +25,7 @@
 
 mod check;
 mod condensation;
-mod interface;
+mod interface_path;
 mod iterate;
 mod iterations;
 mod linearise;

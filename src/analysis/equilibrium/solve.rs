@@ -2,9 +2,9 @@
 //!
 //! Three paths, tried in this order until one gives a solution:
 //! - [`Path::Interface`]: an interface iteration is under way (the soil condensed, its interior in
-//!   balance): the kept unknowns alone (`interface.rs`);
+//!   balance): the kept unknowns alone (`interface_path.rs`);
 //! - [`Path::Condensed`]: the run condenses its elastic soil: the whole system, condensed
-//!   (`interface.rs`);
+//!   (`interface_path.rs`);
 //! - [`Path::Full`]: the whole system, assembled and factorised (here), with the recoveries from a
 //!   singular matrix (`analysis::singular`).
 
@@ -15,7 +15,7 @@ use super::super::non_finite::{self, Iterate};
 use super::super::singular::{self, Recovered, SingularMatrix};
 use super::super::state::State;
 use super::super::stats::Warning;
-use super::interface::{solve_condensed, solve_interface, start_on_interface};
+use super::interface_path::{solve_condensed, solve_interface, start_on_interface};
 use super::iterations::{Iterations, Solution};
 use super::linearise::Linearisation;
 use crate::dofs::DofMap;
