@@ -7,6 +7,7 @@
 //! residual that is not finite is a divergence.
 
 use super::non_finite::NonFinite;
+use super::springs::InterfaceIterate;
 use super::state::State;
 use crate::assembly::{add_spring_forces, soil_and_bar_force, ElementMatrices, SoilView};
 use crate::dofs::DofMap;
@@ -120,7 +121,34 @@ pub struct Measures {
     pub displacement_ok: bool,
 }
 
+/// What the convergence test reads of an iterate besides the elements' force: the interfaces at
+/// the iterate and their rows' gaps, whether any point changed state (or a bar ruptured), and the
+/// last correction.
+pub struct IterateCheck<'a> {
+    pub interface: &'a InterfaceIterate,
+    pub gaps: &'a [f64],
+    pub settled: bool,
+    /// The last displacement correction is small ([`displacement_ok`]).
+    pub displacement_ok: bool,
+    /// The model's characteristic length (the gaps' floor).
+    pub characteristic: f64,
+}
+
 impl Measures {
+    /// The measures of the iterate `check` describes, from the elements' part of the internal
+    /// force `element` and its round-off `floor`.
+    pub fn of(check: &IterateCheck, element: &[f64], floor: f64, state: &State, dofs: &DofMap) -> Measures {
+        let (residual, reference) = balance(element, &check.interface.rows, &check.interface.taus(), state, dofs);
+        Measures {
+            residual,
+            reference,
+            floor,
+            settled: check.settled,
+            gaps_closed: gaps_closed(check.gaps, state, dofs, check.characteristic),
+            displacement_ok: check.displacement_ok,
+        }
+    }
+
     pub fn converged(&self, settings: &AnalysisSettings) -> bool {
         self.settled
             && self.residual <= (settings.force_tolerance * self.reference).max(self.floor)
@@ -165,7 +193,7 @@ pub fn out_of_balance(
 
 /// ‖out-of-balance force on the free DOFs‖ and the reference force, from the elements' part of the
 /// internal force `element` (however it was found).
-pub fn balance(element: &[f64], rows: &InterfaceRows, taus: &[f64], state: &State, dofs: &DofMap) -> (f64, f64) {
+fn balance(element: &[f64], rows: &InterfaceRows, taus: &[f64], state: &State, dofs: &DofMap) -> (f64, f64) {
     let n_dof = state.u.len();
     let mut f_int = element.to_vec();
     add_spring_forces(&mut f_int, rows, taus);
@@ -186,7 +214,7 @@ pub fn balance(element: &[f64], rows: &InterfaceRows, taus: &[f64], state: &Stat
 
 /// Whether every active row's gap is closed (to 10⁻⁹ of the largest displacement, or of 10⁻⁶ of
 /// the `characteristic` length).
-pub fn gaps_closed(gaps: &[f64], state: &State, dofs: &DofMap, characteristic: f64) -> bool {
+fn gaps_closed(gaps: &[f64], state: &State, dofs: &DofMap, characteristic: f64) -> bool {
     let scale = state.u.iter().fold(0.0f64, |m, v| m.max(v.abs())).max(1e-6 * characteristic);
     gaps.iter().enumerate().all(|(k, g)| {
         let m = dofs.multipliers[k];

@@ -140,7 +140,7 @@ pub fn first_system(model: &Model) -> (usize, IterationSystem) {
         frozen_sigma_n: None,
         soil_sigma_from: None,
         bars: crate::element::bar::BarStates::new(model.mesh.bars.len()),
-        soil: soil::initial_field(model),
+        soil: soil::initial_field(&model.initially_absent()),
         placed: Vec::new(),
     };
     let rows = InterfaceRows::new(&model.mesh, &state.interfaces, &dofs.multipliers);

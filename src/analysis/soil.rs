@@ -96,9 +96,9 @@ fn add_bt_sigma(p: &MappedPoint, s: [f64; 4], f: &mut [f64]) {
     }
 }
 
-/// The field at the start of a run: every element present but those a stage places later.
-pub fn initial_field(model: &Model) -> SoilField {
-    let absent = model.initially_absent();
+/// The field at the start of a run: every element present but those a stage places later
+/// (`absent`: [`Model::initially_absent`]).
+pub fn initial_field(absent: &[bool]) -> SoilField {
     SoilField::new(absent.iter().map(|&a| ElementState { active: !a, ..ElementState::default() }).collect())
 }
 

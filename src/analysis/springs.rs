@@ -4,9 +4,42 @@
 
 use super::soil;
 use super::state::State;
+use crate::interface::reassociate::clip_tributaries;
 use crate::interface::rows::{InterfaceRows, Spring};
-use crate::interface::{Dilation, NormalState, ShearResponse, ShearState};
-use crate::model::Model;
+use crate::interface::{Dilation, MultiplierRef, NormalState, ShearResponse, ShearState};
+use crate::model::{Model, ReassociationRule};
+
+/// The interfaces at one iterate: the rows of the current association, every spring's law
+/// evaluated there, and the normal rows of dilating faces held open by their opening.
+pub struct InterfaceIterate {
+    pub rows: InterfaceRows,
+    pub springs: Vec<SpringResult>,
+}
+
+impl InterfaceIterate {
+    /// The interfaces of `state` at its displacements, with the multipliers of `multipliers`.
+    pub fn at(model: &Model, state: &State, multipliers: &[MultiplierRef]) -> Self {
+        let mut rows = InterfaceRows::new(&model.mesh, &state.interfaces, multipliers);
+        let springs = evaluate(model, state, &rows);
+        rows.dilate(springs.iter().map(|r| r.dilation));
+        InterfaceIterate { rows, springs }
+    }
+
+    /// The interfaces at the current iterate, each tributary length first clipped to the part of
+    /// its slave line that still faces the master face (under large slip: the embedded length
+    /// changes as the slave slides, and the resistance follows it within the increment).
+    pub fn clipped(model: &Model, rule: ReassociationRule, state: &mut State, multipliers: &[MultiplierRef]) -> Self {
+        if rule != ReassociationRule::None {
+            clip_tributaries(&model.mesh, &mut state.interfaces, &state.u);
+        }
+        Self::at(model, state, multipliers)
+    }
+
+    /// Each spring's shear stress τ, in `rows.springs` order.
+    pub fn taus(&self) -> Vec<f64> {
+        self.springs.iter().map(|r| r.tau).collect()
+    }
+}
 
 /// One spring's law evaluated at the current iterate.
 #[derive(Debug, Clone)]

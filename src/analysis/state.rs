@@ -47,7 +47,7 @@ impl State {
             frozen_sigma_n: None,
             soil_sigma_from: None,
             bars: BarStates { absent: model.initially_absent_bars(), ..BarStates::new(model.mesh.bars.len()) },
-            soil: soil::initial_field(model),
+            soil: soil::initial_field(&model.initially_absent()),
             placed: Vec::new(),
         };
         state.reserve_segments(options);

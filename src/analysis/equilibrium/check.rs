@@ -2,20 +2,18 @@
 //! interface alone during an interface iteration and on the whole system otherwise.
 
 use super::super::context::Context;
-use super::super::convergence::{balance, displacement_ok, gaps_closed, IncrementError, Measures};
+use super::super::convergence::{displacement_ok, IncrementError, IterateCheck, Measures};
 use super::super::non_finite::{self, Iterate};
 use super::super::soil;
-use super::super::springs;
+use super::super::springs::InterfaceIterate;
 use super::super::state::State;
 use super::condensation::{BalancedInterior, Deferred};
 use super::interface_path::finish_interface;
 use super::iterations::{IncrementReport, Iterations};
-use super::linearise::clip;
 use crate::assembly::{soil_and_bar_force_and_floor, SoilView};
 use crate::dofs::DofMap;
 use crate::element::soil_state::SoilTrial;
 use crate::interface::active_set::{describe, Bands};
-use crate::interface::rows::InterfaceRows;
 use std::time::Instant;
 
 /// After a correction: the active set and the bars' rupture, then the convergence test. Returns
@@ -30,17 +28,15 @@ pub(super) fn check(
     interface_soil: Option<SoilTrial>,
 ) -> Result<Option<IncrementReport>, IncrementError> {
     let t = Instant::now();
-    clip(cx, state);
-    let mut rows = InterfaceRows::new(&cx.model.mesh, &state.interfaces, &dofs.multipliers);
-    let springs = springs::evaluate(cx.model, state, &rows);
-    rows.dilate(springs.iter().map(|r| r.dilation));
+    let rule = cx.options.analysis.reassociation;
+    let interface = InterfaceIterate::clipped(cx.model, rule, state, &dofs.multipliers);
     let characteristic = cx.characteristic;
     let force_floor = state
         .f_ext
         .iter()
         .fold(0.0f64, |m, f| m.max(f.abs()))
         .max(1e-6 * cx.elements.typical_stiffness() * characteristic);
-    let gaps = rows.gaps(&state.u);
+    let gaps = interface.rows.gaps(&state.u);
     let bands = Bands::new(&state.lambda, force_floor, characteristic);
     let mut changes = cx.active_set(dofs, &state.placed).update(
         &mut state.interfaces,
@@ -54,28 +50,25 @@ pub(super) fn check(
     cx.stats.interface_seconds += t.elapsed().as_secs_f64();
     it.state_changes.extend(changes.iter().cloned());
     let settings = &cx.options.analysis;
-    // (the correction against the displacements so far, for an increment that moves almost
-    // nothing, as a strength-reduction trial at F = 1, while slack sheets under no normal stress
-    // drift along themselves without changing any force)
-    let displacement_ok = displacement_ok(settings, iteration, correction2, &state.u, &it.u_increment_start);
-    let taus: Vec<f64> = springs.iter().map(|r| r.tau).collect();
+    let checked = IterateCheck {
+        interface: &interface,
+        gaps: &gaps,
+        settled: changes.is_empty(),
+        // (the correction against the displacements so far, for an increment that moves almost
+        // nothing, as a strength-reduction trial at F = 1, while slack sheets under no normal
+        // stress drift along themselves without changing any force)
+        displacement_ok: displacement_ok(settings, iteration, correction2, &state.u, &it.u_increment_start),
+        characteristic,
+    };
     if let (Some(deferred), Some(_)) = (it.deferred.as_ref(), cx.condensed.as_ref()) {
         // an interface iteration: the residual on the kept unknowns, the interior unmoved
         let t = Instant::now();
         let element = deferred.element_force(&cx.elements, state);
-        let (residual, reference) = balance(&element, &rows, &taus, state, dofs);
+        let measures = Measures::of(&checked, &element, deferred.floor, state, dofs);
         cx.stats.residual_seconds += t.elapsed().as_secs_f64();
-        it.last_residual = Some((residual, reference));
-        let measures = Measures {
-            residual,
-            reference,
-            floor: deferred.floor,
-            settled: changes.is_empty(),
-            gaps_closed: gaps_closed(&gaps, state, dofs, characteristic),
-            displacement_ok,
-        };
+        it.last_residual = Some((measures.residual, measures.reference));
         let last = iteration == settings.max_iterations;
-        if !measures.converged(settings) && !last && residual.is_finite() {
+        if !measures.converged(settings) && !last && measures.residual.is_finite() {
             it.carried_element_force = Some(element);
             it.carried_soil = interface_soil;
             return Ok(None);
@@ -91,10 +84,12 @@ pub(super) fn check(
     // the elements' force and the residual's round-off floor in one pass
     let view = SoilView { field: &state.soil, trial: &soil_trial };
     let (element_force, floor) = soil_and_bar_force_and_floor(&cx.elements, view, &state.bars, &state.u);
-    let (residual, reference) = balance(&element_force, &rows, &taus, state, dofs);
+    let measures = Measures::of(&checked, &element_force, floor, state, dofs);
+    let (residual, reference) = (measures.residual, measures.reference);
     cx.stats.residual_seconds += t.elapsed().as_secs_f64();
     if !residual.is_finite() || !reference.is_finite() {
-        let iterate = Iterate { mesh: &cx.model.mesh, dofs, state, soil_trial: Some(&soil_trial), springs: &springs };
+        let springs = &interface.springs;
+        let iterate = Iterate { mesh: &cx.model.mesh, dofs, state, soil_trial: Some(&soil_trial), springs };
         let first = non_finite::in_iterate(&iterate).unwrap_or(non_finite::NonFinite {
             value: if residual.is_finite() { reference } else { residual },
             location:
@@ -105,20 +100,12 @@ pub(super) fn check(
         return Err(IncrementError::NonFinite { iteration, first });
     }
     it.last_residual = Some((residual, reference));
-    let measures = Measures {
-        residual,
-        reference,
-        floor,
-        settled: changes.is_empty(),
-        gaps_closed: gaps_closed(&gaps, state, dofs, characteristic),
-        displacement_ok,
-    };
     if measures.converged(settings) {
         return Ok(Some(IncrementReport {
             iterations: iteration,
             force_residual: residual / reference,
             linear_residuals: std::mem::take(&mut it.linear_residuals),
-            springs,
+            springs: interface.springs,
             state_changes: std::mem::take(&mut it.state_changes),
             soil: soil_trial,
             element_force,

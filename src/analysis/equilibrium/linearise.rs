@@ -4,13 +4,13 @@
 use super::super::context::Context;
 use super::super::iteration_system::{inputs, SpringTangents};
 use super::super::soil;
-use super::super::springs::{self, SpringResult};
+use super::super::springs::{InterfaceIterate, SpringResult};
 use super::super::state::State;
 use super::iterations::{Iterations, SpringStiffness};
 use crate::assembly::{ElementMatrices, SystemInputs};
 use crate::dofs::DofMap;
 use crate::element::soil_state::{SoilTrial, Tangent};
-use crate::interface::reassociate::{clip_tributaries, tributary_rates};
+use crate::interface::reassociate::tributary_rates;
 use crate::interface::rows::InterfaceRows;
 use crate::interface::NormalState;
 use crate::model::{ReassociationRule, Scheme};
@@ -50,13 +50,6 @@ impl Linearisation {
     }
 }
 
-/// Clip the tributary lengths to the embedded part (large slip).
-pub(super) fn clip(cx: &Context, state: &mut State) {
-    if cx.options.analysis.reassociation != ReassociationRule::None {
-        clip_tributaries(&cx.model.mesh, &mut state.interfaces, &state.u);
-    }
-}
-
 /// The rows, the springs' laws, the soil and the springs' stiffness at the current iterate.
 pub(super) fn linearise(
     cx: &mut Context,
@@ -66,13 +59,12 @@ pub(super) fn linearise(
     iteration: usize,
 ) -> Linearisation {
     let t = Instant::now();
-    clip(cx, state);
+    // (a free reinforcement node is held by its normal states alone, whatever the tributaries)
     let held =
         cx.active_set(dofs, &state.placed).hold_free_reinforcement_nodes(&mut state.interfaces, &mut state.lambda);
     it.state_changes.extend(held);
-    let mut rows = InterfaceRows::new(&cx.model.mesh, &state.interfaces, &dofs.multipliers);
-    let springs = springs::evaluate(cx.model, state, &rows);
-    rows.dilate(springs.iter().map(|r| r.dilation));
+    let rule = cx.options.analysis.reassociation;
+    let InterfaceIterate { rows, springs } = InterfaceIterate::clipped(cx.model, rule, state, &dofs.multipliers);
     // The first iteration of an increment predicts with the elastic soil stiffness: prescribed
     // displacements strain only the elements next to them at first, and their tangent would say
     // nothing about the rest.

@@ -10,7 +10,7 @@ pub(in crate::analysis) mod progress;
 pub use complete::complete_increment;
 pub use progress::{Increment, Stage, StageProgress};
 
-use placement::{placed_nodes, unbalance, with_absent_nodes};
+use placement::{unbalance, Placement};
 
 use super::checkpoint::{Checkpoint, ModelPrint};
 use super::context::Context;
@@ -55,16 +55,17 @@ pub fn set_up<'a>(cx: &mut Context, state: &mut State, plan: &'a StagePlan, inde
         soil::set_k0(model, &cx.setup, &mut state.soil, &state.u);
     }
     state.u_committed = state.u.clone();
-    let placed_before = std::mem::replace(&mut state.placed, placed_nodes(model, &state.soil, &state.bars));
+    let placement = Placement::of(model, &state.soil, &state.bars, &cx.held);
+    let placed_before = std::mem::replace(&mut state.placed, placement.placed);
     place_contacts(&mut state.interfaces, &mut state.lambda, &state.placed, &placed_before);
-    let stage_held = with_absent_nodes(model, &state.soil, &state.bars, &cx.held);
-    let dofs = DofMap::new(model.mesh.nodes.len(), &stage_held, &state.interfaces);
+    let dofs = DofMap::new(model.mesh.nodes.len(), &placement.held, &state.interfaces);
     let redundant = cx.active_set(&dofs, &state.placed).mark_redundant(&mut state.interfaces);
     // This stage's additions: its loads, and the change in the soil's weight (gravity switched on
     // or up, soil placed or removed, soil under a new water table).
     cx.gravity += plan.loads.iter().map(|l| if let Load::Gravity { factor } = l { *factor } else { 0.0 }).sum::<f64>();
+    let water = soil::water_on_boundary(model, &state.soil, &state.interfaces);
     let mut weight = soil::weight(model, &cx.setup, &state.soil, cx.gravity);
-    for (w, p) in weight.iter_mut().zip(soil::water_on_boundary(model, &state.soil, &state.interfaces)) {
+    for (w, p) in weight.iter_mut().zip(water) {
         *w += p;
     }
     let mut force = external_force(model, &plan.loads);
@@ -102,8 +103,8 @@ pub fn resumed<'a>(
     progress: StageProgress,
     step: usize,
 ) -> Stage<'a> {
-    let stage_held = with_absent_nodes(cx.model, &state.soil, &state.bars, &cx.held);
-    let dofs = DofMap::new(cx.model.mesh.nodes.len(), &stage_held, &state.interfaces);
+    let placement = Placement::of(cx.model, &state.soil, &state.bars, &cx.held);
+    let dofs = DofMap::new(cx.model.mesh.nodes.len(), &placement.held, &state.interfaces);
     Stage { plan, index, dofs, step, progress }
 }
 

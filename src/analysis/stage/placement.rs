@@ -3,18 +3,36 @@
 
 use super::super::context::Context;
 use super::super::soil;
-use super::super::springs;
+use super::super::springs::InterfaceIterate;
 use super::super::state::State;
 use crate::assembly::{internal_force, SoilView};
 use crate::dofs::DofMap;
 use crate::element::bar::BarStates;
 use crate::element::soil_state::{SoilField, Tangent};
-use crate::interface::rows::{constraint_force, InterfaceRows};
+use crate::interface::rows::constraint_force;
 use crate::model::Model;
 
-/// Nodes of present soil elements and of placed bars, and nodes of neither (a rigid base).
-pub(super) fn placed_nodes(model: &Model, field: &SoilField, bars: &BarStates) -> Vec<bool> {
-    let mut placed = soil::present_nodes(model, field);
+/// Which nodes a stage's soil and reinforcement place, and which DOFs that leaves held.
+pub(super) struct Placement {
+    /// Nodes of present soil elements and of placed bars, and nodes of neither (a rigid base).
+    pub placed: Vec<bool>,
+    /// The DOFs held: those held anyway, and both DOFs of every node of absent soil or of a bar not
+    /// yet placed.
+    pub held: Vec<bool>,
+}
+
+impl Placement {
+    /// The placement of the soil `field` and the `bars`, with the DOFs `held` anyway.
+    pub fn of(model: &Model, field: &SoilField, bars: &BarStates, held: &[bool]) -> Placement {
+        let present = soil::present_nodes(model, field);
+        Placement { placed: placed_nodes(model, &present, bars), held: with_absent_nodes(model, &present, bars, held) }
+    }
+}
+
+/// Nodes of present soil elements (`present`) and of placed bars, and nodes of neither (a rigid
+/// base).
+fn placed_nodes(model: &Model, present: &[bool], bars: &BarStates) -> Vec<bool> {
+    let mut placed = present.to_vec();
     let mut in_something = vec![false; placed.len()];
     for e in &model.mesh.solids {
         for &n in &e.nodes {
@@ -37,9 +55,8 @@ pub(super) fn placed_nodes(model: &Model, field: &SoilField, bars: &BarStates) -
 
 /// `held` plus both DOFs of every node whose soil elements are all absent (and that no bar uses),
 /// and of every bar not yet placed.
-pub(super) fn with_absent_nodes(model: &Model, field: &SoilField, bars: &BarStates, held: &[bool]) -> Vec<bool> {
+fn with_absent_nodes(model: &Model, present: &[bool], bars: &BarStates, held: &[bool]) -> Vec<bool> {
     let mut held = held.to_vec();
-    let present = soil::present_nodes(model, field);
     let mut in_soil = vec![false; present.len()];
     for e in &model.mesh.solids {
         for &n in &e.nodes {
@@ -72,13 +89,11 @@ pub(super) fn with_absent_nodes(model: &Model, field: &SoilField, bars: &BarStat
 /// The out-of-balance force of the converged state under the stage's new soil configuration, on the
 /// free DOFs: f_ext − f_int − Cᵀλ.
 pub(super) fn unbalance(cx: &Context, dofs: &DofMap, state: &State) -> Vec<f64> {
-    let rows = InterfaceRows::new(&cx.model.mesh, &state.interfaces, &dofs.multipliers);
-    let springs = springs::evaluate(cx.model, state, &rows);
-    let taus: Vec<f64> = springs.iter().map(|r| r.tau).collect();
+    let interface = InterfaceIterate::at(cx.model, state, &dofs.multipliers);
     let trial = soil::evaluate(&cx.setup, &state.soil, &state.u, &state.u_committed, Tangent::Elastic);
     let view = SoilView { field: &state.soil, trial: &trial };
-    let f_int = internal_force(&cx.elements, view, &rows, &taus, &state.bars, &state.u);
-    let f_c = constraint_force(&rows, &state.lambda, state.u.len());
+    let f_int = internal_force(&cx.elements, view, &interface.rows, &interface.taus(), &state.bars, &state.u);
+    let f_c = constraint_force(&interface.rows, &state.lambda, state.u.len());
     (0..state.u.len())
         .map(|d| if dofs.equation[d].is_some() { state.f_ext[d] - f_int[d] - f_c[d] } else { 0.0 })
         .collect()
