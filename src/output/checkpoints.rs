@@ -36,6 +36,15 @@ fn file_name(stage_index: usize, step: usize) -> String {
 /// # Errors
 /// [`Error::Write`] naming the file.
 pub fn write(results: &OwnedFolder, checkpoint: &Checkpoint) -> Result<(), Error> {
+    let (rel, bytes) = encoded(results, checkpoint)?;
+    results.write(&rel, &bytes)
+}
+
+/// One saved step as its file in `results/restart/`: (its name in `results`, its bytes).
+///
+/// # Errors
+/// [`Error::Write`] naming the file, when the step cannot be encoded.
+pub fn encoded(results: &OwnedFolder, checkpoint: &Checkpoint) -> Result<(String, Vec<u8>), Error> {
     let rel = format!("{FOLDER}/{}", file_name(checkpoint.stage_index, checkpoint.step));
     let path = results.path().join(&rel);
     let fail = |source: std::io::Error| Error::Write { path: path.clone(), source };
@@ -45,7 +54,8 @@ pub fn write(results: &OwnedFolder, checkpoint: &Checkpoint) -> Result<(), Error
     file.extend_from_slice(&crc32fast::hash(&bytes).to_le_bytes());
     let mut deflate = flate2::write::DeflateEncoder::new(file, flate2::Compression::fast());
     deflate.write_all(&bytes).map_err(fail)?;
-    results.write(&rel, &deflate.finish().map_err(fail)?)
+    let file = deflate.finish().map_err(fail)?;
+    Ok((rel, file))
 }
 
 /// Where the run continues from: a stage (its name, or its number from 1) and a converged step of

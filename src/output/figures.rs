@@ -107,7 +107,8 @@ impl Figures<'_> {
             figures.push(("pullout".to_string(), "Force against displacement of each prescribed target".to_string()));
         }
         // profiles at the marked steps and the last one
-        let mut chosen: Vec<usize> = self.marked_steps.to_vec();
+        // (a marked step has its profile unless the run stopped while writing it)
+        let mut chosen: Vec<usize> = self.marked_steps.iter().copied().filter(|&s| s < self.profiles.len()).collect();
         if let Some(last) = self.profiles.len().checked_sub(1) {
             chosen.push(last);
         }

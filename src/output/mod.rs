@@ -5,9 +5,11 @@
 //! Every file but `results.h5` is written to a temporary file in the same folder and renamed into
 //! place, so a crash never leaves a truncated file under a final name; `results.h5` is written in
 //! place, flushed after every step, and only `results.xdmf`, rewritten atomically after the flush,
-//! says which of its steps are complete (see `results_h5.rs`). Each step's files are written as
-//! soon as the step converges (a step held back by `--keep` as soon as it proves to be kept):
-//! completed steps are never lost. The files written whole that grow with the run (the index, the
+//! says which of its steps are complete (see `results_h5.rs`). Each step's files are handed to
+//! the writer thread as soon as the step converges (a step held back by `--keep` as soon as it
+//! proves to be kept), and the thread writes every file, in every build, in the order it was
+//! handed them (`writer_thread.rs`): a file that lists steps is written after the steps it lists,
+//! and completed steps are never lost. The files written whole that grow with the run (the index, the
 //! history and the summary) are rewritten at every step while that is cheap, less often once it
 //! is not (`pace.rs`), and always at the end.
 
@@ -20,8 +22,6 @@ mod folder;
 pub mod grids;
 #[cfg(feature = "hdf5")]
 mod h5_arrays;
-#[cfg(feature = "hdf5")]
-pub mod hdf5_thread;
 pub mod history;
 pub mod kept_steps;
 pub mod options;
@@ -39,6 +39,7 @@ mod step_tables;
 mod summary;
 pub mod vtk;
 mod writer;
+mod writer_thread;
 pub mod xdmf;
 
 pub use folder::path_component;

@@ -40,7 +40,7 @@
 //! whatever state the step being written is in (a kill during the flush itself, which rewrites
 //! metadata in place, remains a short window); the run's `summary.json` still says
 //! `running`. The next run into the folder removes both files (`clear_earlier_run`). A run writes
-//! this file on a thread of its own (`hdf5_thread.rs`), in the same order.
+//! this file on the writer thread (`writer_thread.rs`), in the same order.
 
 use super::chunk_deflate::ChunkDeflater;
 use super::grids::{GridLayout, StepGrids};

@@ -3,39 +3,33 @@
 
 use super::folder::{csv_bytes, num};
 use super::grids;
-use super::owned_folder::OwnedFolder;
 use crate::analysis::results::StepResults;
-use crate::error::Error;
 use crate::model::UnitLabels;
 
-/// Write the step's tables into `dir` of `folder`.
-pub(super) fn write_step_files(
-    folder: &OwnedFolder,
-    units: &UnitLabels,
-    dir: &str,
-    r: &StepResults,
-) -> Result<(), Error> {
+/// The step's tables, by their file names in the step's folder.
+pub(super) fn step_files(units: &UnitLabels, r: &StepResults) -> Vec<(String, Vec<u8>)> {
+    let mut files = Vec::with_capacity(5);
     let u = units;
     let (l, f, s) = (u.length, u.force_per_width.as_str(), u.stress.as_str());
     let h = |names: &[String]| names.to_vec();
-    folder.write(
-        &format!("{dir}/displacements.csv"),
-        &csv_bytes(
+    files.push((
+        "displacements.csv".to_string(),
+        csv_bytes(
             &h(&["node".into(), format!("x [{l}]"), format!("y [{l}]"), format!("ux [{l}]"), format!("uy [{l}]")]),
             r.displacements.iter().map(|(id, x, d)| vec![id.to_string(), num(x[0]), num(x[1]), num(d[0]), num(d[1])]),
         ),
-    )?;
+    ));
     let opt = |v: Option<f64>| v.map(num).unwrap_or_default();
-    folder.write(
-        &format!("{dir}/reactions.csv"),
-        &csv_bytes(
+    files.push((
+        "reactions.csv".to_string(),
+        csv_bytes(
             &h(&["node".into(), format!("rx [{f}]"), format!("ry [{f}]")]),
             r.reactions.iter().map(|re| vec![re.node.to_string(), opt(re.rx), opt(re.ry)]),
         ),
-    )?;
-    folder.write(
-        &format!("{dir}/bar_forces.csv"),
-        &csv_bytes(
+    ));
+    files.push((
+        "bar_forces.csv".to_string(),
+        csv_bytes(
             &h(&[
                 "bar".into(),
                 "node_a".into(),
@@ -57,10 +51,10 @@ pub(super) fn write_step_files(
                 ]
             }),
         ),
-    )?;
-    folder.write(
-        &format!("{dir}/interface.csv"),
-        &csv_bytes(
+    ));
+    files.push((
+        "interface.csv".to_string(),
+        csv_bytes(
             &h(&[
                 "interface".into(),
                 "face".into(),
@@ -102,10 +96,10 @@ pub(super) fn write_step_files(
                 ]
             }),
         ),
-    )?;
-    folder.write(
-        &format!("{dir}/stresses.csv"),
-        &csv_bytes(
+    ));
+    files.push((
+        "stresses.csv".to_string(),
+        csv_bytes(
             &h(&[
                 "element".into(),
                 "gauss_point".into(),
@@ -135,5 +129,6 @@ pub(super) fn write_step_files(
                 ]
             }),
         ),
-    )
+    ));
+    files
 }

@@ -40,8 +40,8 @@ pub struct RunSummary {
     pub total_seconds: f64,
     /// Time in the result writer: the field files, history, summary, report and plots.
     pub write_seconds: f64,
-    /// The CPU time of the thread that writes `results.h5` beside the run (compressing and
-    /// storing the fields, the history and the summary), where the system tells it: on a machine
+    /// The CPU time of the thread that writes the run's files beside the run (`results.h5`'s
+    /// compression included), where the system tells it: on a machine
     /// whose cores the run keeps busy, about what writing adds to the run's wall time beyond
     /// `write_seconds`.
     #[serde(skip_serializing_if = "Option::is_none")]

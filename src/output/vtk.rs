@@ -1,43 +1,52 @@
 //! ParaView output as VTK files: three unstructured grids per kept step (soil, reinforcement,
-//! interface; see `grids.rs`), written with the `vtkio` crate, and a `.pvd` collection over the
-//! steps written here (vtkio has no `.pvd` writer). Every file is written atomically; the `.pvd` is
-//! rewritten after each step, so it always lists exactly the steps whose grids are complete.
+//! interface; see `grids.rs`), encoded with the `vtkio` crate, and a `.pvd` collection over the
+//! steps encoded here (vtkio has no `.pvd` writer). The writer thread writes each file atomically,
+//! in the order they are handed to it, and the `.pvd` after the grids it lists, so it always lists
+//! exactly the steps whose grids are complete.
 //!
 //! Points sit at their reference positions; ParaView's *Warp By Vector* on `displacement` shows the
 //! deformed shape.
 
 use super::grids::{GridLayout, StepGrids};
-use super::owned_folder::OwnedFolder;
 use crate::error::Error;
 use crate::model::file::SolidKind;
+use std::path::{Path, PathBuf};
 use vtkio::model::{
     Attribute, Attributes, ByteOrder, CellType, Cells, DataSet, UnstructuredGridPiece, Version, VertexNumbers, Vtk,
 };
 
-/// The `.vtu` files of the kept steps and their `.pvd` collection.
+/// The `.vtu` files of the kept steps and their `.pvd` collection, as the bytes the result writer
+/// writes.
 pub struct VtkWriter {
-    folder: OwnedFolder,
+    /// The output folder, to name a file that cannot be encoded.
+    folder: PathBuf,
     /// (time, [soil, reinforcement, interface] file names relative to the `.pvd`), in time order.
     steps: Vec<(usize, [String; 3])>,
 }
 
 impl VtkWriter {
-    pub fn new(folder: OwnedFolder) -> Self {
-        VtkWriter { folder, steps: Vec::new() }
+    pub fn new(folder: &Path) -> Self {
+        VtkWriter { folder: folder.to_path_buf(), steps: Vec::new() }
     }
 
-    /// Write step number `time` (1, 2, …); the `.pvd` lists it from its next rewrite
-    /// (`write_collection`).
+    /// The files of step number `time` (1, 2, …), by their names in the output folder; the
+    /// `.pvd` lists the step from its next rewrite (`collection`).
     ///
     /// # Errors
-    /// [`Error::Write`] naming the file that could not be written.
-    pub fn write_step(&mut self, time: usize, layout: &GridLayout, grids: &StepGrids) -> Result<(), Error> {
+    /// [`Error::Write`] naming the file that could not be encoded.
+    pub fn step_files(
+        &mut self,
+        time: usize,
+        layout: &GridLayout,
+        grids: &StepGrids,
+    ) -> Result<Vec<(String, Vec<u8>)>, Error> {
         let names = [
             format!("step-{time:04}-soil.vtu"),
             format!("step-{time:04}-reinforcement.vtu"),
             format!("step-{time:04}-interface.vtu"),
         ];
         let pieces = [soil(layout, grids), reinforcement(layout, grids), interface(grids)];
+        let mut files = Vec::with_capacity(3);
         for (grid, name) in pieces.into_iter().zip(&names) {
             let rel = format!("vtk/{name}");
             let mut bytes = Vec::new();
@@ -49,27 +58,20 @@ impl VtkWriter {
                 file_path: None,
             };
             vtk.write_xml(&mut bytes).map_err(|e| Error::Write {
-                path: self.folder.path().join(&rel),
+                path: self.folder.join(&rel),
                 source: std::io::Error::other(format!("VTK writer: {e}")),
             })?;
-            self.folder.write(&rel, &bytes)?;
+            files.push((rel, bytes));
         }
         let entry = (time, names.map(|n| format!("vtk/{n}")));
         let at = self.steps.partition_point(|(t, _)| *t < time);
         self.steps.insert(at, entry);
-        Ok(())
+        Ok(files)
     }
 
-    /// Rewrite the `.pvd` collection over the steps written so far (at the steps where the files
-    /// written whole are due, and at the end of the run: `pace.rs`).
-    ///
-    /// # Errors
-    /// [`Error::Write`] naming the `.pvd`.
-    pub fn write_collection(&self) -> Result<(), Error> {
-        self.folder.write("results.pvd", self.collection().as_bytes())
-    }
-
-    fn collection(&self) -> String {
+    /// The `.pvd` collection over the steps handed out so far (rewritten at the steps where the
+    /// files written whole are due, and at the end of the run: `pace.rs`).
+    pub fn collection(&self) -> String {
         let mut s = String::from(
             "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n  <Collection>\n",
         );

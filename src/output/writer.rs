@@ -4,9 +4,10 @@
 
 use super::figures::{self, profile, StepProfile};
 use super::folder::path_component;
-use super::{checkpoints, events, grids, pace, report, step_tables, vtk};
 #[cfg(feature = "hdf5")]
-use super::{hdf5_thread, results_h5};
+use super::results_h5;
+use super::writer_thread::{self, WriterThread};
+use super::{checkpoints, events, grids, pace, report, step_tables, vtk};
 
 use super::options::{self, OutputOptions};
 use super::owned_folder::OwnedFolder;
@@ -57,9 +58,9 @@ pub struct ResultWriter {
     layout: Arc<grids::GridLayout>,
     /// ParaView `.vtu` grids and their `.pvd` collection, when written.
     vtk: Option<vtk::VtkWriter>,
-    /// `results.h5` and its `results.xdmf`.
-    #[cfg(feature = "hdf5")]
-    h5: Option<hdf5_thread::Hdf5Thread>,
+    /// The thread that writes the run's files, in the order they are handed to it
+    /// (`writer_thread.rs`), `results.h5` and its `results.xdmf` included.
+    thread: Option<WriterThread>,
     /// Steps held back until they prove to be kept (`--keep events` or `N`).
     held: HeldSteps,
     /// When the files written whole (the index, history.csv, summary.json) are next rewritten.
@@ -143,11 +144,9 @@ impl ResultWriter {
             files.push("results.pvd".to_string());
         }
         let layout = Arc::new(grids::GridLayout::new(model));
-        #[allow(unused_mut)] // its HDF5 file is added after the first summary
         let mut writer = ResultWriter {
-            vtk: options.writes_vtu().then(|| vtk::VtkWriter::new(folder.clone())),
-            #[cfg(feature = "hdf5")]
-            h5: None,
+            vtk: options.writes_vtu().then(|| vtk::VtkWriter::new(folder.path())),
+            thread: None,
             held: HeldSteps::new(targets.len()),
             pace: pace::Pace::default(),
             events: events::Events::new(
@@ -226,7 +225,7 @@ impl ResultWriter {
         // recognises as geoslip's (and clears)
         writer.write_summary()?;
         #[cfg(feature = "hdf5")]
-        {
+        let hdf5 = {
             let labels: Vec<(String, &str)> = writer
                 .targets
                 .iter()
@@ -242,8 +241,15 @@ impl ResultWriter {
                 &history,
                 options.precision,
             )?;
-            writer.h5 = Some(hdf5_thread::Hdf5Thread::start(results, writer.layout.clone(), writer.folder.clone())?);
-        }
+            Some(writer_thread::Hdf5Files { results, layout: writer.layout.clone() })
+        };
+        // (after the first summary, and after `results.h5` is created: a folder with a summary is
+        // geoslip's)
+        #[cfg(feature = "hdf5")]
+        let thread = WriterThread::start(writer.folder.clone(), hdf5)?;
+        #[cfg(not(feature = "hdf5"))]
+        let thread = WriterThread::start(writer.folder.clone())?;
+        writer.thread = Some(thread);
         Ok(writer)
     }
 
@@ -277,15 +283,43 @@ impl ResultWriter {
         self.replace_file("summary.json", json)
     }
 
-    /// Replace the file `name` of the output folder with `bytes`, atomically and synced: on the
-    /// `results.h5` thread while a run has one (after what was handed to it, so that the file
-    /// never runs ahead of `results.xdmf`), here otherwise.
+    /// Replace the file `name` of the output folder, written whole as the run grows, with
+    /// `bytes`, atomically and synced: on the writer thread while it runs (after what was handed
+    /// to it, so that the file never runs ahead of what it lists), here otherwise (before the
+    /// thread starts, and after it has finished).
     fn replace_file(&mut self, name: &str, bytes: Vec<u8>) -> Result<(), Error> {
-        #[cfg(feature = "hdf5")]
-        if let Some(h5) = self.h5.as_mut().filter(|h5| h5.running()) {
-            return h5.replace_file(name.to_string(), bytes);
+        match self.running_thread() {
+            Some(thread) => thread.replace_file(name.to_string(), bytes),
+            None => self.folder.write(name, &bytes),
         }
-        self.folder.write(name, &bytes)
+    }
+
+    /// Write a file of one step, as [`ResultWriter::replace_file`] does.
+    fn write_file(&mut self, name: String, bytes: Vec<u8>) -> Result<(), Error> {
+        match self.running_thread() {
+            Some(thread) => thread.write_file(name, bytes),
+            None => self.folder.write(&name, &bytes),
+        }
+    }
+
+    /// Write a step's folder `dir` of `files`, whole or not at all, as
+    /// [`ResultWriter::replace_file`] does.
+    fn write_step_folder(&mut self, dir: String, files: Vec<(String, Vec<u8>)>) -> Result<(), Error> {
+        match self.running_thread() {
+            Some(thread) => thread.write_step_folder(dir, files),
+            None => writer_thread::write_folder_whole(&self.folder, &dir, files),
+        }
+    }
+
+    /// The writer thread, while it takes work.
+    fn running_thread(&mut self) -> Option<&mut WriterThread> {
+        self.thread.as_mut().filter(|thread| thread.running())
+    }
+
+    /// The writer thread, while it takes work and writes `results.h5`.
+    #[cfg(feature = "hdf5")]
+    fn hdf5_thread(&mut self) -> Option<&mut WriterThread> {
+        self.running_thread().filter(|thread| thread.has_hdf5())
     }
 
     /// Mark the run finished (or failed), write the summary a last time, and the report.
@@ -301,11 +335,6 @@ impl ResultWriter {
         if let Some(last) = self.held.latest.take() {
             self.write_held(&last)?;
         }
-        #[cfg(feature = "hdf5")]
-        if let Some(h5) = &mut self.h5 {
-            h5.finish()?;
-            self.summary.writer_thread_seconds = h5.cpu_seconds();
-        }
         self.summary.status = if error.is_some() { "failed".into() } else { "completed".into() };
         self.summary.error = error.map(|e| e.to_string());
         if let Some(s) = stats {
@@ -313,6 +342,12 @@ impl ResultWriter {
         }
         self.summary.total_seconds = seconds;
         self.rewrite_growing_files()?;
+        // everything handed over written (and `results.h5` committed and closed); the figures,
+        // the report and the last summary after it
+        if let Some(thread) = &mut self.thread {
+            thread.finish()?;
+            self.summary.writer_thread_seconds = thread.cpu_seconds();
+        }
         let figures = self.figures().write()?;
         let report = report::markdown(model, &self.summary, &self.history, &self.units, &figures);
         self.folder.write("report.md", report.as_bytes())?;
@@ -330,21 +365,23 @@ impl ResultWriter {
         if self.options.csv {
             // the step's folder appears whole or not at all: written beside it, then renamed into
             // place (over the same step of an earlier run into this folder)
-            let dir = self.step_dir(record);
-            let partial = self.folder.temporary_folder(&dir)?;
-            step_tables::write_step_files(&self.folder, &self.units, &partial, results)?;
-            self.folder.move_folder(&partial, &dir)?;
+            let files = step_tables::step_files(&self.units, results);
+            self.write_step_folder(self.step_dir(record), files)?;
         }
         if self.vtk.is_none() && !self.options.writes_hdf5() {
             return Ok(());
         }
         let grids = self.layout.step(results);
-        if let Some(vtk) = &mut self.vtk {
-            vtk.write_step(time, &self.layout, &grids)?;
+        let vtu = match &mut self.vtk {
+            Some(vtk) => vtk.step_files(time, &self.layout, &grids)?,
+            None => Vec::new(),
+        };
+        for (name, bytes) in vtu {
+            self.write_file(name, bytes)?;
         }
         #[cfg(feature = "hdf5")]
-        if let Some(h5) = &mut self.h5 {
-            h5.write_step(time, record, grids)?;
+        if let Some(thread) = self.hdf5_thread() {
+            thread.write_step(time, record, grids)?;
         }
         Ok(())
     }
@@ -360,7 +397,8 @@ impl StepSink for ResultWriter {
     }
 
     fn checkpoint(&mut self, checkpoint: &crate::analysis::Checkpoint) -> Result<(), Error> {
-        checkpoints::write(&self.folder, checkpoint)
+        let (name, bytes) = checkpoints::encoded(&self.folder, checkpoint)?;
+        self.write_file(name, bytes)
     }
 
     fn factor_of_safety(&mut self, fs: &crate::analysis::FactorOfSafety) -> Result<(), Error> {
@@ -376,8 +414,8 @@ impl StepSink for ResultWriter {
         self.summary.factors_of_safety.push(fs.clone());
         // at once, whatever the pace (the index first, so the summary is not ahead of it)
         #[cfg(feature = "hdf5")]
-        if let Some(h5) = self.h5.as_mut().filter(|h5| h5.running()) {
-            h5.commit(true)?;
+        if let Some(thread) = self.hdf5_thread() {
+            thread.commit(true)?;
         }
         self.rewrite_growing_files()
     }
@@ -425,6 +463,14 @@ impl StepSink for ResultWriter {
             });
             values.push((mean_u, reaction));
         }
+        // what the summary, the report and the figures say of the step, before any of its files is
+        // handed over (a write that fails leaves them all with the step)
+        self.profiles.push(StepProfile {
+            label: format!("{} step {}", record.stage, record.step),
+            reinforcements: self.reinforcements.iter().map(|nodes| profile(nodes, results)).collect(),
+        });
+        self.summary.steps.push(record.clone());
+        self.summary.solver_stats = stats.clone();
 
         // the fields: this step's if it is kept; the step before, held back, if this one starts
         // another stage (it was the last of its own); a peak held back, once the reaction falls
@@ -455,16 +501,10 @@ impl StepSink for ResultWriter {
         // the files written whole, at this step if they are due
         let rewrite = self.pace.due();
         #[cfg(feature = "hdf5")]
-        if let Some(h5) = &mut self.h5 {
-            h5.append_history(time, record, &values)?;
-            h5.commit(rewrite)?;
+        if let Some(thread) = self.hdf5_thread() {
+            thread.append_history(time, record, &values)?;
+            thread.commit(rewrite)?;
         }
-        self.profiles.push(StepProfile {
-            label: format!("{} step {}", record.stage, record.step),
-            reinforcements: self.reinforcements.iter().map(|nodes| profile(nodes, results)).collect(),
-        });
-        self.summary.steps.push(record.clone());
-        self.summary.solver_stats = stats.clone();
         self.summary.write_seconds += started.elapsed().as_secs_f64();
         if !rewrite {
             return Ok(());
@@ -474,8 +514,7 @@ impl StepSink for ResultWriter {
         let took = rewriting.elapsed();
         self.summary.write_seconds += took.as_secs_f64();
         // (with the writer thread's time on the same files, as far as it has got)
-        #[cfg(feature = "hdf5")]
-        let took = took + self.h5.as_ref().map_or(std::time::Duration::ZERO, |h5| h5.take_rewrite_time());
+        let took = took + self.thread.as_ref().map_or(std::time::Duration::ZERO, WriterThread::take_rewrite_time);
         self.pace.rewritten(took);
         Ok(())
     }
@@ -485,8 +524,8 @@ impl ResultWriter {
     /// Rewrite the files written whole that grow with the run: the `.pvd` collection,
     /// `history.csv` and `summary.json` (`results.xdmf` with the commit: `h5.commit(true)`).
     fn rewrite_growing_files(&mut self) -> Result<(), Error> {
-        if let Some(vtk) = &self.vtk {
-            vtk.write_collection()?;
+        if let Some(pvd) = self.vtk.as_ref().map(vtk::VtkWriter::collection) {
+            self.replace_file("results.pvd", pvd.into_bytes())?;
         }
         let csv = history::csv(&self.history, &self.units);
         self.replace_file("history.csv", csv)?;
