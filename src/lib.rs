@@ -40,5 +40,6 @@ pub mod model;
 #[allow(unsafe_code)]
 pub mod native;
 pub mod output;
+pub mod timing;
 
 pub use error::{Error, ModelError, Problem, SolveError};

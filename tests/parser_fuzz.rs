@@ -193,8 +193,8 @@ impl StepSink for Saved {
     fn keeps_checkpoints(&self) -> bool {
         true
     }
-    fn checkpoint(&mut self, checkpoint: &Checkpoint) -> Result<(), geoslip::Error> {
-        self.0.push(checkpoint.clone());
+    fn checkpoint(&mut self, checkpoint: Checkpoint) -> Result<(), geoslip::Error> {
+        self.0.push(checkpoint);
         Ok(())
     }
 }

@@ -71,6 +71,7 @@ pub use stats::{RunStats, SolverStats, Warning, Warnings};
 use crate::error::Error;
 use crate::model::Model;
 use context::Context;
+use std::time::Instant;
 
 /// Run every stage of a model.
 ///
@@ -78,8 +79,10 @@ use context::Context;
 /// A solve or convergence failure names the stage and step, and the interface points that kept
 /// changing state; steps completed before it have already been passed to `sink`.
 pub fn run(model: &Model, options: &RunOptions, sink: &mut dyn StepSink) -> Result<RunStats, Error> {
+    let started = Instant::now();
     let mut cx = Context::new(model, options)?;
     let mut state = State::initial(model, options);
+    cx.stats.setup_seconds += started.elapsed().as_secs_f64();
     stages_from(&mut cx, &mut state, 0, sink)?;
     Ok(cx.stats)
 }
@@ -96,11 +99,16 @@ pub fn resume(
     checkpoint: Checkpoint,
     sink: &mut dyn StepSink,
 ) -> Result<RunStats, Error> {
+    let started = Instant::now();
     let mut cx = Context::new(model, options)?;
     let Checkpoint { stage_index, step, mut state, held, gravity, applied_weight, progress, .. } = checkpoint;
     (cx.held, cx.gravity, cx.applied_weight) = (held, gravity, applied_weight);
     let mut stage = stage::resumed(&cx, &state, &model.stages[stage_index], stage_index, progress, step);
-    stage::increments(&mut cx, &mut state, &mut stage, sink)?;
+    cx.stats.setup_seconds += started.elapsed().as_secs_f64();
+    let started = Instant::now();
+    let increments = stage::increments(&mut cx, &mut state, &mut stage, sink);
+    cx.stats.increments_seconds += started.elapsed().as_secs_f64();
+    increments?;
     stages_from(&mut cx, &mut state, stage_index + 1, sink)?;
     Ok(cx.stats)
 }
@@ -109,17 +117,20 @@ pub fn resume(
 fn stages_from(cx: &mut Context, state: &mut State, first: usize, sink: &mut dyn StepSink) -> Result<(), Error> {
     let model = cx.model;
     for (index, plan) in model.stages.iter().enumerate().skip(first) {
+        let started = Instant::now();
         let mut stage = stage::set_up(cx, state, plan, index);
-        match plan.strength_reduction {
-            Some(reduction) => {
-                let fs = strength_reduction::search(cx, state, &mut stage, reduction, sink)?;
-                sink.factor_of_safety(&fs)?;
-            }
-            None => {
-                stage::freeze_normal_stress(cx, state, &stage);
-                stage::increments(cx, state, &mut stage, sink)?;
-            }
+        if plan.strength_reduction.is_none() {
+            stage::freeze_normal_stress(cx, state, &stage);
         }
+        cx.stats.stage_setup_seconds += started.elapsed().as_secs_f64();
+        let started = Instant::now();
+        let done = match plan.strength_reduction {
+            Some(reduction) => strength_reduction::search(cx, state, &mut stage, reduction, sink)
+                .and_then(|fs| sink.factor_of_safety(&fs)),
+            None => stage::increments(cx, state, &mut stage, sink),
+        };
+        cx.stats.increments_seconds += started.elapsed().as_secs_f64();
+        done?;
     }
     Ok(())
 }

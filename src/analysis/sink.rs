@@ -22,8 +22,9 @@ pub trait StepSink {
         false
     }
 
-    /// What the run needs to continue from the step just handed over (after `step_done`).
-    fn checkpoint(&mut self, _checkpoint: &Checkpoint) -> Result<(), Error> {
+    /// What the run needs to continue from the step just handed over (after `step_done`), the
+    /// sink's to keep.
+    fn checkpoint(&mut self, _checkpoint: Checkpoint) -> Result<(), Error> {
         Ok(())
     }
 }

@@ -18,6 +18,18 @@ pub struct RunStats {
     pub residual_seconds: f64,
     /// Time computing and writing each step's results.
     pub output_seconds: f64,
+    /// Time saving the steps a run can continue from (the state copied, encoded and handed to
+    /// the writer).
+    pub checkpoint_seconds: f64,
+    /// Time setting the run up: the soil's set-up, the element matrices, the solver, the initial
+    /// state.
+    pub setup_seconds: f64,
+    /// Time setting the stages up: soil placed and removed, water, K0 stresses, contacts, DOFs,
+    /// loads, σn frozen.
+    pub stage_setup_seconds: f64,
+    /// Time in the stages' increments (or strength-reduction searches), everything in them: the
+    /// times above but the set-ups' are parts of it.
+    pub increments_seconds: f64,
     /// Diagnostics that do not stop a run.
     pub warnings: Warnings,
 }

@@ -185,6 +185,10 @@ enum Command {
         /// the extrapolated first iterate.
         #[arg(long)]
         pullout: bool,
+        /// With --pullout: write the benchmark's model of each size into this folder as a model
+        /// file (`pullout-<size>.toml`, its mesh inline) and run nothing.
+        #[arg(long, requires = "pullout")]
+        write_models: Option<PathBuf>,
     },
     /// One benchmark measurement, in a process of its own (used by `bench`).
     #[command(hide = true)]
@@ -219,6 +223,7 @@ enum Command {
 /// MPI starts first; rank 0 runs the command and every other rank serves MUMPS's distributed
 /// factorisations and solves until rank 0 is done.
 pub fn main() -> ExitCode {
+    let process = crate::timing::ProcessStart::now();
     crate::native::heap::one_arena_per_core();
     #[cfg(feature = "mpi")]
     {
@@ -230,12 +235,12 @@ pub fn main() -> ExitCode {
             cluster.serve();
             return ExitCode::SUCCESS;
         }
-        let code = command_line();
+        let code = command_line(process);
         cluster.release();
         code
     }
     #[cfg(not(feature = "mpi"))]
-    command_line()
+    command_line(process)
 }
 
 /// A limit given on the command line: a finite number above zero (`NaN`, `inf`, 0 and negative
@@ -247,7 +252,7 @@ fn positive_number(text: &str) -> Result<f64, String> {
     }
 }
 
-fn command_line() -> ExitCode {
+fn command_line(process: crate::timing::ProcessStart) -> ExitCode {
     let cli = Cli::parse();
     let cli_flags = (cli.quiet, cli.verbose);
     match cli.command {
@@ -262,28 +267,32 @@ fn command_line() -> ExitCode {
             }
             ExitCode::SUCCESS
         }
-        Command::Bench { sizes, backends, repeats, orderings, nonlinear, pullout } => match if pullout {
-            let backend = backends.first().copied().unwrap_or(Backend::Auto);
-            let variants = [
-                (Scheme::ConstantStiffness, false, Extrapolation::None),
-                (Scheme::ConstantStiffness, true, Extrapolation::None),
-                (Scheme::ConstantStiffness, true, Extrapolation::Linear),
-                (Scheme::Newton, false, Extrapolation::None),
-                (Scheme::Newton, true, Extrapolation::None),
-                (Scheme::Newton, true, Extrapolation::Linear),
-            ];
-            pullout_bench::bench_pullout(&sizes, backend, &variants)
-        } else if nonlinear {
-            bench_nonlinear(&sizes, &backends, &orderings)
-        } else {
-            bench(&sizes, &backends, repeats, &orderings)
-        } {
-            Ok(()) => ExitCode::SUCCESS,
-            Err(e) => {
-                eprintln!("error: {e}");
-                ExitCode::from(exit::SOLVER)
+        Command::Bench { sizes, backends, repeats, orderings, nonlinear, pullout, write_models } => {
+            match if let Some(folder) = write_models {
+                pullout_bench::write_pullout_models(&sizes, &folder)
+            } else if pullout {
+                let backend = backends.first().copied().unwrap_or(Backend::Auto);
+                let variants = [
+                    (Scheme::ConstantStiffness, false, Extrapolation::None),
+                    (Scheme::ConstantStiffness, true, Extrapolation::None),
+                    (Scheme::ConstantStiffness, true, Extrapolation::Linear),
+                    (Scheme::Newton, false, Extrapolation::None),
+                    (Scheme::Newton, true, Extrapolation::None),
+                    (Scheme::Newton, true, Extrapolation::Linear),
+                ];
+                pullout_bench::bench_pullout(&sizes, backend, &variants)
+            } else if nonlinear {
+                bench_nonlinear(&sizes, &backends, &orderings)
+            } else {
+                bench(&sizes, &backends, repeats, &orderings)
+            } {
+                Ok(()) => ExitCode::SUCCESS,
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    ExitCode::from(exit::SOLVER)
+                }
             }
-        },
+        }
         Command::BenchOne { dofs, backend, ordering, nonlinear, pullout, scheme, full_system, extrapolate, pairs } => {
             let backend = Backend::available().into_iter().find(|b| b.name() == backend);
             let line = match (nonlinear, backend) {
@@ -301,6 +310,7 @@ fn command_line() -> ExitCode {
                         !full_system,
                         extrapolation,
                         pairs,
+                        process,
                     ))
                 }
                 (true, Some(b)) => serde_json::to_string(&measure::measure_nonlinear(dofs, b, ordering)),
@@ -338,8 +348,13 @@ fn command_line() -> ExitCode {
             let load = LoadOptions { trust_geo, memory_limit_mb: memory_limit, gmsh_time_limit_s: gmsh_time_limit };
             let output = OutputOptions { csv, keep, vtu, no_restart, precision: field_precision };
             let restart = restart.zip(from);
-            let settings =
-                RunSettings { solver, solver_options: &options, output: &output, verbosity: Verbosity::of(&cli_flags) };
+            let settings = RunSettings {
+                solver,
+                solver_options: &options,
+                output: &output,
+                verbosity: Verbosity::of(&cli_flags),
+                process,
+            };
             match run(&model, load, &settings, out, restart) {
                 Ok(()) => ExitCode::SUCCESS,
                 Err(e) => {

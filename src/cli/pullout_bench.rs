@@ -14,8 +14,9 @@ use crate::linsol::csc::PatternCache;
 use crate::linsol::linear_system::{LinearSystem, SolverStats};
 use crate::linsol::{self, Backend};
 use crate::meshgen::PullOutBox;
-use crate::model::file::ShearLawSpec;
+use crate::model::file::{ModelFile, ShearLawSpec};
 use crate::model::{Extrapolation, Model, Scheme};
+use crate::timing::{Phase, ProcessStart, Timings};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 use std::time::Instant;
@@ -25,6 +26,12 @@ pub const PULL_STEPS: usize = 40;
 
 /// The benchmark model with about `dofs` unknowns.
 pub fn pullout_box(dofs: usize, scheme: Scheme, extrapolation: Extrapolation) -> Model {
+    Model::from_file(Path::new("generated-pullout-benchmark"), &pullout_box_file(dofs, scheme, extrapolation))
+        .expect("the generated pull-out benchmark is a valid model")
+}
+
+/// The benchmark model with about `dofs` unknowns, as its model file (the mesh inline).
+pub fn pullout_box_file(dofs: usize, scheme: Scheme, extrapolation: Extrapolation) -> ModelFile {
     // unknowns ≈ 2·(nx+1)·(2·ny_half+1) with nx = 2·(2·ny_half) for square elements in 2 m × 1 m
     let ny_half = ((dofs as f64 / 16.0).sqrt().round() as usize).max(2);
     let nx = 4 * ny_half;
@@ -45,8 +52,24 @@ pub fn pullout_box(dofs: usize, scheme: Scheme, extrapolation: Extrapolation) ->
     file.analysis.freeze_normal_stress = true;
     file.analysis.scheme = scheme;
     file.analysis.extrapolation = extrapolation;
-    Model::from_file(Path::new("generated-pullout-benchmark"), &file)
-        .expect("the generated pull-out benchmark is a valid model")
+    file
+}
+
+/// Write the benchmark model of each size into `folder` as `pullout-<size>.toml` (constant
+/// stiffness, the mesh inline): the same runs from a model file, with `geoslip run`.
+///
+/// # Errors
+/// What could not be written, by its path.
+pub fn write_pullout_models(sizes: &[usize], folder: &Path) -> Result<(), String> {
+    std::fs::create_dir_all(folder).map_err(|e| format!("{}: {e}", folder.display()))?;
+    for &size in sizes {
+        let file = pullout_box_file(size, Scheme::ConstantStiffness, Extrapolation::None);
+        let text = toml::to_string(&file).map_err(|e| format!("the benchmark model of {size} unknowns: {e}"))?;
+        let path = folder.join(format!("pullout-{size}.toml"));
+        std::fs::write(&path, text).map_err(|e| format!("{}: {e}", path.display()))?;
+        println!("{}", path.display());
+    }
+    Ok(())
 }
 
 /// One run of the benchmark model.
@@ -108,6 +131,10 @@ pub struct PulloutMeasurement {
     /// The run's own phase times [s]: assembly, interface, residual, solution check, sparse
     /// factorisation, sparse solves, dense (condensed) factorisations and solves.
     pub phases: [f64; 8],
+    /// The first run's timings, from this process's start to the end of that run (its
+    /// `summary.json`'s `timings`).
+    #[serde(default)]
+    pub timings: Timings,
     pub error: Option<String>,
 }
 
@@ -169,8 +196,14 @@ pub fn measure_pullout(
     condense: bool,
     extrapolation: Extrapolation,
     pairs: usize,
+    process: ProcessStart,
 ) -> PulloutMeasurement {
+    let started = Instant::now();
     let model = pullout_box(dofs, scheme, extrapolation);
+    let generated = Phase::new(
+        "benchmark model generated",
+        started.elapsed().as_secs_f64() - model.load_times.iter().map(|p| p.seconds).sum::<f64>(),
+    );
     let mut m = PulloutMeasurement {
         backend: backend.resolve().name().into(),
         scheme: format!("{scheme:?}"),
@@ -198,7 +231,13 @@ pub fn measure_pullout(
             .and_then(|mut writer| crate::output::write_run(&model, &options, None, &mut writer, head).map(|_| writer))
     };
     let t = Instant::now();
-    let result = written_run(out.path(), &mut head);
+    // the first run's timings count from the process's start
+    let result = crate::output::ResultWriter::with_options(&model, out.path(), backend.name(), &output).and_then(
+        |mut writer| {
+            writer.timed_before(process.at, vec![process.phase(), generated]);
+            crate::output::write_run(&model, &options, None, &mut writer, &mut head).map(|_| writer)
+        },
+    );
     m.wall_seconds = t.elapsed().as_secs_f64();
     m.pull_steps = head.pull_steps;
     m.head_force = head.force;
@@ -214,6 +253,7 @@ pub fn measure_pullout(
             m.writer_thread_seconds = writer.summary.writer_thread_seconds;
             m.write_seconds = writer.summary.write_seconds;
             m.kept = s.solver.condensed_unknowns;
+            m.timings = writer.summary.timings.clone();
             m.phases = [
                 s.solver.assembly_seconds,
                 s.interface_seconds,
@@ -339,6 +379,7 @@ pub fn bench_pullout(
     println!();
     println!("| unknowns | scheme | condensed (kept) | first iterate | wall [s] | factorisation [s] | solve [s] | wall / (factorisation + {PULL_STEPS} solves) | iterations / step | factorisations | dense LUs | dense iterations | solves | wall, no files written [s] | wall, written again [s] | output share | output [MB] | peak RSS, the run [MiB] | peak RSS, process [MiB] | head force [kN/m] |");
     println!("|---:|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
+    let mut timed = Vec::new();
     for &size in sizes {
         for &(scheme, condense, extrapolation) in variants {
             let scheme_name = match scheme {
@@ -399,7 +440,17 @@ pub fn bench_pullout(
                 m.process_peak_mb,
                 m.head_force,
             );
+            let label = format!(
+                "{} unknowns, {scheme_name}, {first_iterate} first iterate, condensed: {}",
+                m.unknowns, m.condensed
+            );
+            timed.push((label, m.timings));
         }
+    }
+    // where each process's time went, up to the end of its first run (summary.json's timings)
+    for (label, timings) in timed {
+        println!("\nWhere the time went: {label} (other {:.1} %)\n", 100.0 * timings.other_share());
+        print!("{}", timings.table());
     }
     Ok(())
 }

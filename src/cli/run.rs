@@ -16,6 +16,8 @@ pub(super) struct RunSettings<'a> {
     pub solver_options: &'a SolverOptions,
     pub output: &'a OutputOptions,
     pub verbosity: Verbosity,
+    /// When the process started: a single run's timings count from there.
+    pub process: crate::timing::ProcessStart,
 }
 
 /// Run a model, or each run of its series and then the series summary.
@@ -144,7 +146,7 @@ fn run_case(
     from: Option<(crate::analysis::Checkpoint, PathBuf)>,
     peaks: &mut Vec<crate::output::TargetPeak>,
 ) -> Result<(), crate::Error> {
-    let RunSettings { solver, solver_options, output, verbosity } = *settings;
+    let RunSettings { solver, solver_options, output, verbosity, process } = *settings;
     let options = RunOptions { solver: solver_options.clone(), ..RunOptions::for_model(model, solver) };
     let solver_name = match solver.resolve() {
         Backend::Mumps => format!(
@@ -156,7 +158,12 @@ fn run_case(
         b => b.name().to_string(),
     };
     let mut writer = match out {
-        Place::Path(out) => ResultWriter::with_options(model, out, &solver_name, output)?,
+        Place::Path(out) => {
+            let mut writer = ResultWriter::with_options(model, out, &solver_name, output)?;
+            // the process is this run (a series' runs count from their own start)
+            writer.timed_before(process.at, vec![process.phase()]);
+            writer
+        }
         Place::Opened(folder) => ResultWriter::with_folder(model, folder, &solver_name, output)?,
     };
     if verbosity != Verbosity::Quiet {

@@ -338,8 +338,8 @@ pub struct ReinforcementMaterial {
     pub rupture_strength: Option<f64>,
 }
 
-/// `[id, x, y]`.
-#[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
+/// `[id, x, y]` (read to its exact length: `rows.rs`).
+#[derive(Debug, Clone, Serialize, JsonSchema)]
 pub struct NodeRow(pub u64, pub f64, pub f64);
 
 #[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
@@ -358,6 +358,7 @@ pub struct SolidElementRow {
 #[serde(deny_unknown_fields)]
 pub struct BarRow {
     pub id: u64,
+    #[serde(deserialize_with = "crate::model::rows::pair")]
     pub nodes: [u64; 2],
     /// Name of a reinforcement material.
     pub material: String,
@@ -427,7 +428,7 @@ pub struct InterfaceSpec {
     pub master: Option<Vec<u64>>,
     /// Unit-free direction pointing into the master side, required only when the master face is not on
     /// any soil element (a rigid base).
-    #[serde(default)]
+    #[serde(default, deserialize_with = "crate::model::rows::optional_pair")]
     pub master_normal: Option<[f64; 2]>,
     /// The shear law of every face of this interface; for a reinforcement, of the soil above it
     /// against its top layer.
@@ -529,7 +530,7 @@ pub struct ReinforcementPath {
     pub line: Option<String>,
     /// With `line`: a point near the head end, needed only when both ends (or neither) lie on the
     /// boundary.
-    #[serde(default)]
+    #[serde(default, deserialize_with = "crate::model::rows::optional_pair")]
     pub head: Option<[f64; 2]>,
     /// Name of a reinforcement material.
     pub material: String,
@@ -616,7 +617,7 @@ pub struct Stage {
     /// rise, fall and change sign (cyclic loading); the times increase and only order the rows (the
     /// analysis is rate-independent). Every row is a step, and every reversal of the factor is an
     /// event of the outputs. The loads and displacements stay at the last row's factor.
-    #[serde(default)]
+    #[serde(default, deserialize_with = "crate::model::rows::optional_pairs")]
     pub history: Option<Vec<[f64; 2]>>,
     /// With `history`: the largest change of the factor in one step; each segment between rows is
     /// divided into equal steps no larger than it (default: one step per row).
@@ -697,7 +698,7 @@ pub struct WaterTable {
     #[serde(default)]
     pub level: Option<f64>,
     /// The phreatic line as `[x, y]` points, x increasing [length].
-    #[serde(default)]
+    #[serde(default, deserialize_with = "crate::model::rows::optional_pairs")]
     pub line: Option<Vec<[f64; 2]>>,
     /// No water from this stage on.
     #[serde(default)]

@@ -5,18 +5,21 @@ pub mod file;
 pub mod import;
 mod parse;
 pub mod problems;
+mod rows;
 mod validate;
 
 pub use crate::element::soil_state::WaterTable;
 use crate::error::{Error, ModelError};
 use crate::interface::Interface;
 use crate::mesh::{Mesh, NodeIndex};
+use crate::timing::Phase;
 pub use parse::{parse, read_text, read_text_within};
 // The `[analysis]` settings are checked as the file gives them: the run reads them from here.
 pub use file::{AnalysisSettings, Extrapolation, ReassociationRule, Scheme};
 use file::{Direction, ModelFile, ReinforcementMaterial, SoilMaterial, Units};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
+use std::time::Instant;
 
 /// A checked model, ready to analyse.
 #[derive(Debug, Clone)]
@@ -39,6 +42,9 @@ pub struct Model {
     pub analysis: file::AnalysisSettings,
     /// The Gmsh mesh the nodes and elements came from, when the model names one.
     pub mesh_source: Option<import::MeshRecord>,
+    /// How long reading, parsing, importing the mesh and checking this model took, phase by phase
+    /// (only the checks for a model made in memory).
+    pub load_times: Vec<Phase>,
 }
 
 /// One run of a model file.
@@ -191,9 +197,15 @@ impl Model {
     /// # Errors
     /// As [`Model::load`].
     pub fn load_with(path: &Path, options: LoadOptions) -> Result<Model, Error> {
+        let started = Instant::now();
         let text = read_text_within(path, options.memory_limit_mb)?;
+        let read = Phase::since("model: file read", started);
+        let started = Instant::now();
         let file = parse(path, &text)?;
-        Model::from_file_with(path, &file, options).map_err(Error::Model)
+        let parsed = Phase::since("model: file parsed", started);
+        let mut model = Model::from_file_with(path, &file, options).map_err(Error::Model)?;
+        model.load_times.splice(0..0, [read, parsed]);
+        Ok(model)
     }
 
     /// The `.geo` script a model file's mesh is made from, when it is one: `check` reads it (for the
@@ -254,16 +266,16 @@ impl Model {
     /// # Errors
     /// As [`Model::load_cases`].
     pub fn load_cases_with(path: &Path, options: LoadOptions) -> Result<Vec<Case>, Error> {
+        let started = Instant::now();
         let text = read_text_within(path, options.memory_limit_mb)?;
+        let read = Phase::since("model: file read", started);
+        let started = Instant::now();
         let file = parse(path, &text)?;
+        let parsed = Phase::since("model: file parsed", started);
         let Some(series) = file.series.clone() else {
-            return Ok(vec![Case {
-                label: None,
-                load: None,
-                value: None,
-                model: Some(Model::from_file_with(path, &file, options)?),
-                series: None,
-            }]);
+            let mut model = Model::from_file_with(path, &file, options)?;
+            model.load_times.splice(0..0, [read, parsed]);
+            return Ok(vec![Case { label: None, load: None, value: None, model: Some(model), series: None }]);
         };
         let problems = series_problems(&file, &series);
         if !problems.is_empty() {
@@ -302,13 +314,16 @@ impl Model {
         if file.mesh.is_none() {
             return validate::validate(source, file);
         }
+        let started = Instant::now();
         let mut file = file.clone();
         let mut problems = problems::Problems::default();
         let record = import::import(source, &mut file, &mut problems, options);
         if !problems.is_empty() {
             return Err(ModelError { file: source.to_path_buf(), problems: problems.into_vec() });
         }
+        let imported = Phase::since("model: mesh imported", started);
         let mut model = validate::validate(source, &file)?;
+        model.load_times.insert(0, imported);
         if let Some(r) = &record {
             if r.flipped > 0 {
                 model.notes.push(format!(

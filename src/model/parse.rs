@@ -67,25 +67,13 @@ fn parse_schema(path: &Path, text: &str) -> Result<ModelFile, Error> {
             .map_err(|e| fail(e.path().to_string(), shorten_lines(&e.into_inner().to_string())))
     } else {
         let de = toml::Deserializer::parse(text).map_err(|e| fail(String::new(), shorten_lines(&e.to_string())))?;
-        let file = serde_path_to_error::deserialize(de).map_err(|e| {
+        // (its rows read to their exact length, as JSON reads them: `rows.rs`)
+        serde_path_to_error::deserialize(de).map_err(|e| {
             let field = e.path().to_string();
             let mut inner = e.into_inner();
             inner.set_input(Some(text)); // so that the message shows the line and column
             fail(field, shorten_lines(&inner.to_string()))
-        })?;
-        // the same tree read as JSON is read: TOML's reader takes a row longer than its fields (a
-        // node `[1, 0.0, 0.0, 7.0]` read as `[1, 0.0, 0.0]`), JSON's refuses it, and a model must
-        // mean one thing in either form
-        // (only the rows' lengths are in question here: JSON has no NaN, so a NaN the model file
-        // holds, which validation names, is a null in the tree)
-        let tree: serde_json::Value =
-            toml::from_str(text).map_err(|e| fail(String::new(), shorten_lines(&e.to_string())))?;
-        match serde_path_to_error::deserialize::<_, ModelFile>(tree) {
-            Err(e) if e.inner().to_string().contains("invalid length") => {
-                Err(fail(e.path().to_string(), format!("{}: a row holds more values than its fields", e.into_inner())))
-            }
-            _ => Ok(file),
-        }
+        })
     }
 }
 
@@ -96,6 +84,9 @@ pub const MAX_MAGNITUDE: f64 = 1e100;
 
 /// Numbers in the file beyond ±[`MAX_MAGNITUDE`], by field.
 fn huge_numbers(path: &Path, text: &str) -> Vec<Problem> {
+    if !may_hold_huge_numbers(text) {
+        return Vec::new();
+    }
     let is_json = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("json"));
     let mut found = Vec::new();
     if is_json {
@@ -116,6 +107,28 @@ fn huge_numbers(path: &Path, text: &str) -> Vec<Problem> {
             ),
         })
         .collect()
+}
+
+/// Whether `text` may hold a number beyond ±[`MAX_MAGNITUDE`]: any run of the characters a number
+/// is written with (digits, `.`, `_`, `e`, `E`, `+`, `-`) that reads as such a number. A text with
+/// none holds none, and is not parsed again to look for one and name its field.
+fn may_hold_huge_numbers(text: &str) -> bool {
+    let in_number = |b: u8| b.is_ascii_digit() || matches!(b, b'.' | b'_' | b'e' | b'E' | b'+' | b'-');
+    let bytes = text.as_bytes();
+    let mut i = 0;
+    while i < bytes.len() {
+        if !bytes[i].is_ascii_digit() {
+            i += 1;
+            continue;
+        }
+        let end = bytes[i..].iter().position(|&b| !in_number(b)).map_or(bytes.len(), |n| i + n);
+        let token: String = text[i..end].chars().filter(|&c| c != '_').collect();
+        if token.parse::<f64>().is_ok_and(|x| x.is_finite() && x.abs() > MAX_MAGNITUDE) {
+            return true;
+        }
+        i = end;
+    }
+    false
 }
 
 fn child(path: &str, key: &str) -> String {
@@ -184,4 +197,21 @@ fn shorten_lines(message: &str) -> String {
         })
         .collect::<Vec<_>>()
         .join("\n")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_number_beyond_the_largest_magnitude_is_found_however_it_is_written() {
+        let long = format!("x = 1{}", "0".repeat(101));
+        for huge in ["x = 1e101", "x = 2.5E+0101", "x = -123456789e95", "[0, 1_000e98]", long.as_str()] {
+            assert!(may_hold_huge_numbers(huge), "{huge}");
+        }
+        for fine in ["x = 1e100", "nodes = [[1, 0.0, 2.5e-300], [2, 1e99, 3]]", "when = 1979-05-27", "name = \"e123\""]
+        {
+            assert!(!may_hold_huge_numbers(fine), "{fine}");
+        }
+    }
 }

@@ -44,7 +44,7 @@ pub fn write(results: &OwnedFolder, checkpoint: &Checkpoint) -> Result<(), Error
 ///
 /// # Errors
 /// [`Error::Write`] naming the file, when the step cannot be encoded.
-pub fn encoded(results: &OwnedFolder, checkpoint: &Checkpoint) -> Result<(String, Vec<u8>), Error> {
+fn encoded(results: &OwnedFolder, checkpoint: &Checkpoint) -> Result<(String, Vec<u8>), Error> {
     let rel = format!("{FOLDER}/{}", file_name(checkpoint.stage_index, checkpoint.step));
     let path = results.path().join(&rel);
     let fail = |source: std::io::Error| Error::Write { path: path.clone(), source };

@@ -60,7 +60,7 @@ pub fn write_run(
         fn keeps_checkpoints(&self) -> bool {
             self.writer.keeps_checkpoints()
         }
-        fn checkpoint(&mut self, checkpoint: &crate::analysis::Checkpoint) -> Result<(), Error> {
+        fn checkpoint(&mut self, checkpoint: crate::analysis::Checkpoint) -> Result<(), Error> {
             self.writer.checkpoint(checkpoint)
         }
     }

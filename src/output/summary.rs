@@ -3,6 +3,7 @@
 use crate::analysis::RunStats;
 use crate::analysis::StepRecord;
 use crate::model::file::Direction;
+use crate::timing::Timings;
 
 /// The peak reaction of one prescribed target (a pull-out force, a footing load).
 #[derive(Debug, Clone, serde::Serialize)]
@@ -46,6 +47,9 @@ pub struct RunSummary {
     /// `write_seconds`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub writer_thread_seconds: Option<f64>,
+    /// Where the time went, phase by phase: over the whole process when the program said when it
+    /// started (`geoslip run`, `geoslip bench`), from the result writer's start otherwise.
+    pub timings: Timings,
 }
 
 /// The files that hold the fields of the kept steps.

@@ -21,8 +21,10 @@ use crate::analysis::{StepRecord, StepSink};
 use crate::error::Error;
 use crate::model::file::Direction;
 use crate::model::{Model, UnitLabels};
+use crate::timing::{Phase, Timings};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
+use std::time::Instant;
 
 /// A prescribed target followed through the run: its mean displacement and total reaction.
 struct Target {
@@ -65,6 +67,12 @@ pub struct ResultWriter {
     held: HeldSteps,
     /// When the files written whole (the index, history.csv, summary.json) are next rewritten.
     pace: pace::Pace,
+    /// When this writer started opening its folder, and how long that took [s].
+    created: Instant,
+    opening_seconds: f64,
+    /// When the process started and the phases its program timed before this writer existed
+    /// ([`ResultWriter::timed_before`]).
+    before: Option<(Instant, Vec<Phase>)>,
     pub summary: RunSummary,
 }
 
@@ -91,8 +99,18 @@ impl ResultWriter {
     /// # Errors
     /// [`Error::Write`] naming what could not be written or cleared in `out`.
     pub fn with_options(model: &Model, out: &Path, solver: &str, options: &OutputOptions) -> Result<Self, Error> {
+        let started = Instant::now();
         let folder = OwnedFolder::open(out, &Self::inputs(model))?;
-        Self::with_folder(model, folder, solver, options)
+        let mut writer = Self::with_folder(model, folder, solver, options)?;
+        (writer.created, writer.opening_seconds) = (started, started.elapsed().as_secs_f64());
+        Ok(writer)
+    }
+
+    /// Count the timings from `process_started`, the process's start, with `phases` its program
+    /// timed before this writer existed (the process's start itself, …): `summary.json`'s
+    /// `timings` then cover the whole process, the model's loading included.
+    pub fn timed_before(&mut self, process_started: Instant, phases: Vec<Phase>) {
+        self.before = Some((process_started, phases));
     }
 
     /// The files a run of `model` reads, which its output never replaces or removes: the model
@@ -115,6 +133,7 @@ impl ResultWriter {
         solver: &str,
         options: &OutputOptions,
     ) -> Result<Self, Error> {
+        let created = Instant::now();
         let out = folder.path().to_path_buf();
         let out = out.as_path();
         let mut targets = Vec::new();
@@ -149,6 +168,9 @@ impl ResultWriter {
             thread: None,
             held: HeldSteps::new(targets.len()),
             pace: pace::Pace::default(),
+            created,
+            opening_seconds: 0.0,
+            before: None,
             events: events::Events::new(
                 model
                     .stages
@@ -218,6 +240,7 @@ impl ResultWriter {
                 total_seconds: 0.0,
                 write_seconds: 0.0,
                 writer_thread_seconds: None,
+                timings: Timings::default(),
             },
             units,
         };
@@ -250,6 +273,7 @@ impl ResultWriter {
         #[cfg(not(feature = "hdf5"))]
         let thread = WriterThread::start(writer.folder.clone())?;
         writer.thread = Some(thread);
+        writer.opening_seconds = created.elapsed().as_secs_f64();
         Ok(writer)
     }
 
@@ -353,6 +377,7 @@ impl ResultWriter {
         self.folder.write("report.md", report.as_bytes())?;
         // once more, with the time the writer took to the end
         self.summary.write_seconds += started.elapsed().as_secs_f64();
+        self.summary.timings = self.timings(model, started);
         self.write_summary()
     }
 
@@ -396,9 +421,12 @@ impl StepSink for ResultWriter {
         !self.options.no_restart
     }
 
-    fn checkpoint(&mut self, checkpoint: &crate::analysis::Checkpoint) -> Result<(), Error> {
-        let (name, bytes) = checkpoints::encoded(&self.folder, checkpoint)?;
-        self.write_file(name, bytes)
+    fn checkpoint(&mut self, checkpoint: crate::analysis::Checkpoint) -> Result<(), Error> {
+        match self.running_thread() {
+            // encoded on the writer thread, beside the run
+            Some(thread) => thread.write_checkpoint(checkpoint),
+            None => checkpoints::write(&self.folder, &checkpoint),
+        }
     }
 
     fn factor_of_safety(&mut self, fs: &crate::analysis::FactorOfSafety) -> Result<(), Error> {
@@ -521,6 +549,41 @@ impl StepSink for ResultWriter {
 }
 
 impl ResultWriter {
+    /// Where the time went, from the process's start (or this writer's) to now, with the run's
+    /// own counts; `finishing` is when [`ResultWriter::finish`] began.
+    fn timings(&self, model: &Model, finishing: Instant) -> Timings {
+        let mut phases = Vec::new();
+        let started = match &self.before {
+            Some((started, before)) => {
+                phases.extend(before.iter().cloned());
+                phases.extend(model.load_times.iter().cloned());
+                *started
+            }
+            None => self.created,
+        };
+        let s = &self.summary.solver_stats;
+        phases.push(Phase::new("output folder opened", self.opening_seconds));
+        phases.push(Phase::new("run set-up: soil, element matrices, solver", s.setup_seconds));
+        phases.push(Phase::new("stage set-up: soil placed, water, K0, contacts, DOFs, loads", s.stage_setup_seconds));
+        let increments = [
+            ("increments: interface rows, laws, active set, re-association", s.interface_seconds),
+            ("increments: assembly", s.solver.assembly_seconds),
+            ("increments: symbolic analysis", s.solver.analyse_seconds),
+            ("increments: sparse factorisation", s.solver.factorize_seconds),
+            ("increments: sparse solves", s.solver.solve_seconds),
+            ("increments: interface system (dense)", s.solver.dense_seconds),
+            ("increments: solution checks", s.solver.check_seconds),
+            ("increments: out-of-balance force", s.residual_seconds),
+            ("increments: step results, handed to the writer", s.output_seconds),
+            ("increments: saved steps (restart), copied and handed over", s.checkpoint_seconds),
+        ];
+        let counted: f64 = increments.iter().map(|(_, seconds)| seconds).sum();
+        phases.extend(increments.into_iter().map(|(phase, seconds)| Phase::new(phase, seconds)));
+        phases.push(Phase::new("increments: the rest", s.increments_seconds - counted));
+        phases.push(Phase::since("results finished: last files written, figures, report", finishing));
+        Timings::new(started.elapsed().as_secs_f64(), phases)
+    }
+
     /// Rewrite the files written whole that grow with the run: the `.pvd` collection,
     /// `history.csv` and `summary.json` (`results.xdmf` with the commit: `h5.commit(true)`).
     fn rewrite_growing_files(&mut self) -> Result<(), Error> {

@@ -3,7 +3,7 @@
 //! the writing, syncing and (for `results.h5`) compression overlap the next step's iterations.
 //!
 //! A step hands over its field files (its `.vtu` grids, its CSV tables as one folder, its fields
-//! in `results.h5`), its saved step, its history entry in `results.h5` and a commit, and at the
+//! in `results.h5`), its saved step (encoded here: it is the largest), its history entry in `results.h5` and a commit, and at the
 //! steps where the files written whole are due (`pace.rs`) a commit with the index and the new
 //! `results.pvd`, `history.csv` and `summary.json`. The thread does them in that order (see
 //! `results_h5.rs`: the index `results.xdmf` is rewritten only after the HDF5 file is flushed, so
@@ -12,11 +12,13 @@
 //! run never holds more than a few steps' files in memory. An error on the writer thread stops it;
 //! the run's thread gets the error at its next hand-over, or when it finishes.
 
+use super::checkpoints;
 #[cfg(feature = "hdf5")]
 use super::grids::{GridLayout, StepGrids};
 use super::owned_folder::OwnedFolder;
 #[cfg(feature = "hdf5")]
 use super::results_h5::Hdf5Results;
+use crate::analysis::Checkpoint;
 #[cfg(feature = "hdf5")]
 use crate::analysis::StepRecord;
 use crate::error::Error;
@@ -40,6 +42,8 @@ const JOBS_PER_STEP: usize = 11;
 enum Job {
     /// A file of one step (a `.vtu` grid, a saved step), by its name in the output folder.
     File { name: String, bytes: Vec<u8> },
+    /// A saved step a run can continue from, encoded here (`checkpoints.rs`).
+    Checkpoint(Box<Checkpoint>),
     /// A step's CSV tables: written into a folder beside `dir`, which is then moved into place, so
     /// that the step's folder appears whole or not at all.
     StepFolder { dir: String, files: Vec<(String, Vec<u8>)> },
@@ -98,6 +102,7 @@ impl WriterThread {
                 for job in inbox {
                     match job {
                         Job::File { name, bytes } => folder.write(&name, &bytes)?,
+                        Job::Checkpoint(checkpoint) => checkpoints::write(&folder, &checkpoint)?,
                         Job::StepFolder { dir, files } => write_folder_whole(&folder, &dir, files)?,
                         Job::Rewrite { name, bytes } => {
                             let started = Instant::now();
@@ -161,6 +166,14 @@ impl WriterThread {
     /// The writer thread's error, if it has stopped.
     pub fn write_file(&mut self, name: String, bytes: Vec<u8>) -> Result<(), Error> {
         self.send(Job::File { name, bytes })
+    }
+
+    /// Hand over a saved step, to encode and write into `restart/`.
+    ///
+    /// # Errors
+    /// The writer thread's error, if it has stopped.
+    pub fn write_checkpoint(&mut self, checkpoint: Checkpoint) -> Result<(), Error> {
+        self.send(Job::Checkpoint(Box::new(checkpoint)))
     }
 
     /// Hand over a step's folder `dir` of `files`, which appears whole or not at all.

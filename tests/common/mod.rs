@@ -260,8 +260,8 @@ impl analysis::StepSink for Saved {
     fn keeps_checkpoints(&self) -> bool {
         true
     }
-    fn checkpoint(&mut self, checkpoint: &analysis::Checkpoint) -> Result<(), geoslip::Error> {
-        self.checkpoints.push(checkpoint.clone());
+    fn checkpoint(&mut self, checkpoint: analysis::Checkpoint) -> Result<(), geoslip::Error> {
+        self.checkpoints.push(checkpoint);
         Ok(())
     }
 }

@@ -195,7 +195,8 @@ pub fn increments(
             progress.cutbacks = 0;
         }
         if let Some(print) = &print {
-            sink.checkpoint(&Checkpoint {
+            let saving = Instant::now();
+            let saved = sink.checkpoint(Checkpoint {
                 geoslip_version: env!("CARGO_PKG_VERSION").into(),
                 model: print.clone(),
                 stage_index: stage.index,
@@ -206,7 +207,9 @@ pub fn increments(
                 gravity: cx.gravity,
                 applied_weight: cx.applied_weight.clone(),
                 progress: stage.progress.clone(),
-            })?;
+            });
+            cx.stats.checkpoint_seconds += saving.elapsed().as_secs_f64();
+            saved?;
         }
     }
     Ok(())

@@ -19,8 +19,10 @@ use super::{LoadedSide, Model, StagePlan};
 use crate::error::ModelError;
 use crate::interface::Interface;
 use crate::mesh::{Mesh, NodeIndex};
+use crate::timing::Phase;
 use std::collections::{BTreeMap, HashMap, HashSet};
 use std::path::Path;
+use std::time::Instant;
 
 /// What the checks have built so far.
 #[derive(Default)]
@@ -49,17 +51,27 @@ struct Draft {
 pub(super) fn validate(source: &Path, file: &ModelFile) -> Result<Model, ModelError> {
     let mut p = Problems::default();
     let mut d = Draft { mesh_ok: true, ..Draft::default() };
-    materials::materials(&mut d, file, &mut p);
-    mesh::mesh(&mut d, file, &mut p);
-    sets::node_and_edge_sets(&mut d, file, &mut p);
-    interfaces::interfaces(&mut d, file, &mut p);
-    targets::supports(&mut d, file, &mut p);
-    sets::element_sets(&mut d, file, &mut p);
-    stages::stages(&mut d, file, &mut p);
-    analysis_settings(file, &mut p);
-    if p.is_empty() {
-        free_bodies::check_free_bodies(&d.mesh, &d.interfaces, &d.supports, d.stages.first(), &mut p);
-    }
+    let mut times = Vec::new();
+    let mut timed = |phase: &str, step: &mut dyn FnMut(&mut Draft, &mut Problems)| {
+        let started = Instant::now();
+        step(&mut d, &mut p);
+        times.push(Phase::since(phase, started));
+    };
+    timed("model: materials", &mut |d, p| materials::materials(d, file, p));
+    timed("model: mesh checked", &mut |d, p| mesh::mesh(d, file, p));
+    timed("model: node and edge sets", &mut |d, p| sets::node_and_edge_sets(d, file, p));
+    timed("model: interfaces split and paired", &mut |d, p| interfaces::interfaces(d, file, p));
+    timed("model: supports, element sets, stages", &mut |d, p| {
+        targets::supports(d, file, p);
+        sets::element_sets(d, file, p);
+        stages::stages(d, file, p);
+        analysis_settings(file, p);
+    });
+    timed("model: every body held", &mut |d, p| {
+        if p.is_empty() {
+            free_bodies::check_free_bodies(&d.mesh, &d.interfaces, &d.supports, d.stages.first(), p);
+        }
+    });
     if !p.is_empty() {
         return Err(ModelError { file: source.to_path_buf(), problems: p.into_vec() });
     }
@@ -78,6 +90,7 @@ pub(super) fn validate(source: &Path, file: &ModelFile) -> Result<Model, ModelEr
         notes: Vec::new(),
         analysis: file.analysis.clone(),
         mesh_source: None,
+        load_times: times,
     })
 }
 
