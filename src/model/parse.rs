@@ -122,7 +122,9 @@ fn may_hold_huge_numbers(text: &str) -> bool {
             continue;
         }
         let end = bytes[i..].iter().position(|&b| !in_number(b)).map_or(bytes.len(), |n| i + n);
-        let token: String = text[i..end].chars().filter(|&c| c != '_').collect();
+        let token = &text[i..end];
+        let token: std::borrow::Cow<str> =
+            if token.contains('_') { token.replace('_', "").into() } else { token.into() };
         if token.parse::<f64>().is_ok_and(|x| x.is_finite() && x.abs() > MAX_MAGNITUDE) {
             return true;
         }

@@ -34,6 +34,7 @@ pub mod report;
 #[cfg(feature = "hdf5")]
 pub mod results_h5;
 mod run;
+mod run_timings;
 pub mod series;
 mod step_tables;
 mod summary;

@@ -6,6 +6,7 @@ use super::figures::{self, profile, StepProfile};
 use super::folder::path_component;
 #[cfg(feature = "hdf5")]
 use super::results_h5;
+use super::run_timings;
 use super::writer_thread::{self, WriterThread};
 use super::{checkpoints, events, grids, pace, report, step_tables, vtk};
 
@@ -377,7 +378,8 @@ impl ResultWriter {
         self.folder.write("report.md", report.as_bytes())?;
         // once more, with the time the writer took to the end
         self.summary.write_seconds += started.elapsed().as_secs_f64();
-        self.summary.timings = self.timings(model, started);
+        let (opening, stats) = (self.opening_seconds, &self.summary.solver_stats);
+        self.summary.timings = run_timings::of_run(self.before.as_ref(), self.created, model, opening, stats, started);
         self.write_summary()
     }
 
@@ -549,41 +551,6 @@ impl StepSink for ResultWriter {
 }
 
 impl ResultWriter {
-    /// Where the time went, from the process's start (or this writer's) to now, with the run's
-    /// own counts; `finishing` is when [`ResultWriter::finish`] began.
-    fn timings(&self, model: &Model, finishing: Instant) -> Timings {
-        let mut phases = Vec::new();
-        let started = match &self.before {
-            Some((started, before)) => {
-                phases.extend(before.iter().cloned());
-                phases.extend(model.load_times.iter().cloned());
-                *started
-            }
-            None => self.created,
-        };
-        let s = &self.summary.solver_stats;
-        phases.push(Phase::new("output folder opened", self.opening_seconds));
-        phases.push(Phase::new("run set-up: soil, element matrices, solver", s.setup_seconds));
-        phases.push(Phase::new("stage set-up: soil placed, water, K0, contacts, DOFs, loads", s.stage_setup_seconds));
-        let increments = [
-            ("increments: interface rows, laws, active set, re-association", s.interface_seconds),
-            ("increments: assembly", s.solver.assembly_seconds),
-            ("increments: symbolic analysis", s.solver.analyse_seconds),
-            ("increments: sparse factorisation", s.solver.factorize_seconds),
-            ("increments: sparse solves", s.solver.solve_seconds),
-            ("increments: interface system (dense)", s.solver.dense_seconds),
-            ("increments: solution checks", s.solver.check_seconds),
-            ("increments: out-of-balance force", s.residual_seconds),
-            ("increments: step results, handed to the writer", s.output_seconds),
-            ("increments: saved steps (restart), copied and handed over", s.checkpoint_seconds),
-        ];
-        let counted: f64 = increments.iter().map(|(_, seconds)| seconds).sum();
-        phases.extend(increments.into_iter().map(|(phase, seconds)| Phase::new(phase, seconds)));
-        phases.push(Phase::new("increments: the rest", s.increments_seconds - counted));
-        phases.push(Phase::since("results finished: last files written, figures, report", finishing));
-        Timings::new(started.elapsed().as_secs_f64(), phases)
-    }
-
     /// Rewrite the files written whole that grow with the run: the `.pvd` collection,
     /// `history.csv` and `summary.json` (`results.xdmf` with the commit: `h5.commit(true)`).
     fn rewrite_growing_files(&mut self) -> Result<(), Error> {
