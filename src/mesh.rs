@@ -76,12 +76,12 @@ impl SolidKind {
 
     /// Local node positions of each side: `[corner a, corner b, mid-side (quadratic only)]`,
     /// counter-clockwise, so that the solid lies to the left of a → b.
-    pub fn sides(self) -> Vec<Vec<usize>> {
+    pub fn sides(self) -> &'static [&'static [usize]] {
         match self {
-            SolidKind::Tri3 => vec![vec![0, 1], vec![1, 2], vec![2, 0]],
-            SolidKind::Quad4 => vec![vec![0, 1], vec![1, 2], vec![2, 3], vec![3, 0]],
-            SolidKind::Tri6 => vec![vec![0, 1, 3], vec![1, 2, 4], vec![2, 0, 5]],
-            SolidKind::Quad8 => vec![vec![0, 1, 4], vec![1, 2, 5], vec![2, 3, 6], vec![3, 0, 7]],
+            SolidKind::Tri3 => &[&[0, 1], &[1, 2], &[2, 0]],
+            SolidKind::Quad4 => &[&[0, 1], &[1, 2], &[2, 3], &[3, 0]],
+            SolidKind::Tri6 => &[&[0, 1, 3], &[1, 2, 4], &[2, 0, 5]],
+            SolidKind::Quad8 => &[&[0, 1, 4], &[1, 2, 5], &[2, 3, 6], &[3, 0, 7]],
         }
     }
 }
@@ -95,46 +95,52 @@ pub struct SolidSide {
     pub quadratic: bool,
 }
 
-/// Soil element sides keyed by their (sorted) corner nodes, built once per mesh.
+/// Soil element sides keyed by their (sorted) corner nodes, built once per mesh: one array sorted
+/// by key (a hash map of vectors took an allocation per side and grew faster than the mesh).
 #[derive(Debug, Clone, Default)]
 pub struct SideMap {
-    /// (sorted corner pair) → every (element, its corners in its own order, quadratic side).
-    sides: HashMap<(NodeIndex, NodeIndex), Vec<SideOwner>>,
+    /// (sorted corner pair, (element, its corners in its own order, quadratic side)), by key.
+    sides: Vec<((NodeIndex, NodeIndex), SideOwner)>,
 }
 
 type SideOwner = (usize, [NodeIndex; 2], bool);
 
 impl SideMap {
     pub fn new(mesh: &Mesh) -> Self {
-        let mut sides: HashMap<_, Vec<_>> = HashMap::new();
+        let mut sides = Vec::with_capacity(mesh.solids.iter().map(|solid| solid.kind.sides().len()).sum());
         for (s, solid) in mesh.solids.iter().enumerate() {
             for side in solid.kind.sides() {
                 let (p, q) = (solid.nodes[side[0]], solid.nodes[side[1]]);
-                sides.entry((p.min(q), p.max(q))).or_default().push((s, [p, q], side.len() == 3));
+                sides.push(((p.min(q), p.max(q)), (s, [p, q], side.len() == 3)));
             }
         }
+        // stable: the owners of one side stay in element order
+        sides.sort_by_key(|&(key, _)| key);
         SideMap { sides }
+    }
+
+    /// The owners of the side with sorted corners `key`.
+    fn owners(&self, key: (NodeIndex, NodeIndex)) -> &[((NodeIndex, NodeIndex), SideOwner)] {
+        let start = self.sides.partition_point(|&(k, _)| k < key);
+        let end = start + self.sides[start..].partition_point(|&(k, _)| k == key);
+        &self.sides[start..end]
     }
 
     /// Every soil element side joining corner nodes `a` and `b` (in either order).
     pub fn between(&self, a: NodeIndex, b: NodeIndex) -> Vec<SolidSide> {
-        self.sides
-            .get(&(a.min(b), a.max(b)))
-            .map(|v| {
-                v.iter()
-                    .map(|&(solid, [p, _], quadratic)| SolidSide { solid, solid_on_left: p == a, quadratic })
-                    .collect()
-            })
-            .unwrap_or_default()
+        self.owners((a.min(b), a.max(b)))
+            .iter()
+            .map(|&(_, (solid, [p, _], quadratic))| SolidSide { solid, solid_on_left: p == a, quadratic })
+            .collect()
     }
 
     /// Corner nodes that lie on the mesh boundary (on a side that belongs to one element only).
     pub fn boundary_nodes(&self, node_count: usize) -> Vec<bool> {
         let mut on_boundary = vec![false; node_count];
-        for (&(p, q), owners) in &self.sides {
-            if owners.len() == 1 {
-                on_boundary[p] = true;
-                on_boundary[q] = true;
+        for group in self.sides.chunk_by(|a, b| a.0 == b.0) {
+            if let [((p, q), _)] = group {
+                on_boundary[*p] = true;
+                on_boundary[*q] = true;
             }
         }
         on_boundary

@@ -213,7 +213,8 @@ enum Command {
         #[arg(long)]
         extrapolate: bool,
         /// The pull-out run's output share from this many written runs, each between two runs
-        /// writing nothing (its mean and standard error in the measurement).
+        /// writing nothing (its mean and standard error in the measurement); 0: the first run and
+        /// the floor only.
         #[arg(long, default_value_t = 1)]
         pairs: usize,
     },

@@ -154,6 +154,10 @@ impl PulloutMeasurement {
         if self.share_pairs > 0 {
             return self.output_share_mean;
         }
+        if self.unwritten_wall_seconds == 0.0 {
+            // (`--pairs 0`: no run writing nothing)
+            return f64::NAN;
+        }
         let written = if self.rewritten_wall_seconds > 0.0 { self.rewritten_wall_seconds } else { self.wall_seconds };
         1.0 - self.unwritten_wall_seconds / written
     }
@@ -279,13 +283,17 @@ pub fn measure_pullout(
         let result = analysis::run(&model, &options, &mut unwritten);
         (t.elapsed().as_secs_f64(), result.err())
     };
-    let (mut before, error) = unwritten_run();
-    if let Some(e) = error {
-        m.error = Some(e.to_string());
-    }
     let (mut unwritten, mut rewritten, mut shares) = (Vec::new(), Vec::new(), Vec::new());
-    unwritten.push(before);
-    for _ in 0..pairs.max(1) {
+    let mut before = 0.0;
+    if pairs > 0 {
+        let error;
+        (before, error) = unwritten_run();
+        if let Some(e) = error {
+            m.error = Some(e.to_string());
+        }
+        unwritten.push(before);
+    }
+    for _ in 0..pairs {
         let written = match tempfile::tempdir() {
             Ok(again) => {
                 let mut rewritten = Head { nodes: head.nodes.clone(), pull_steps: 0, force: 0.0 };

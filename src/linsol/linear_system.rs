@@ -40,6 +40,9 @@ pub struct SolverStats {
     /// preconditioned by it: `linsol/condensed/updated_lu.rs`).
     pub dense_iterations: usize,
     pub dense_seconds: f64,
+    /// The part of `dense_seconds` in the factorisations, and in the BiCGSTAB iterations.
+    pub dense_factorization_seconds: f64,
+    pub dense_iteration_seconds: f64,
     /// Unknowns the condensed system kept (the interface's), when a run condensed its soil.
     pub condensed_unknowns: Option<usize>,
 }

@@ -33,7 +33,12 @@ pub(super) fn of_run(
         ("increments: symbolic analysis", s.solver.analyse_seconds),
         ("increments: sparse factorisation", s.solver.factorize_seconds),
         ("increments: sparse solves", s.solver.solve_seconds),
-        ("increments: interface system (dense)", s.solver.dense_seconds),
+        ("increments: interface system: dense factorisations", s.solver.dense_factorization_seconds),
+        ("increments: interface system: BiCGSTAB iterations", s.solver.dense_iteration_seconds),
+        (
+            "increments: interface system: solves, updates, products",
+            s.solver.dense_seconds - s.solver.dense_factorization_seconds - s.solver.dense_iteration_seconds,
+        ),
         ("increments: solution checks", s.solver.check_seconds),
         ("increments: out-of-balance force", s.residual_seconds),
         ("increments: step results, handed to the writer", s.output_seconds),

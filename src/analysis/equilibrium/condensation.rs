@@ -27,10 +27,9 @@ use crate::linsol::csc::Triplets;
 use std::rc::Rc;
 
 /// Largest number of kept unknowns condensed onto, and the largest share of all the unknowns they
-/// may be. The dense system's LU is O(m³) and it holds S and the factors, 16·m² bytes (576 MB at
-/// the limit). Measured on the 4·10⁵-unknown pull-out (docs/performance.md): 4557 kept unknowns,
-/// condensed in about 25–27 s against 137 s on the full system, the peak memory about the same.
-pub const MAX_KEPT: usize = 6000;
+/// may be. The kept system holds S's dense block and the dense factors, at most 16·m² bytes (2.3 GB
+/// at the limit). The 1.6·10⁶-unknown pull-out keeps about 9100 (docs/performance.md).
+pub const MAX_KEPT: usize = 12000;
 const MAX_KEPT_SHARE: f64 = 0.5;
 
 /// The unknowns an interface can touch: every multiplier; the DOFs of every bar; the DOFs of every

@@ -39,8 +39,10 @@ pub(super) struct CondensedSoil {
 pub(super) struct InterfaceLu {
     key: u64,
     lu: UpdatedLu,
-    /// The factorisations, updates and iterations of `lu` already added to the run's counts.
+    /// The factorisations, updates and iterations of `lu` already added to the run's counts, and
+    /// the seconds of its factorisations and iterations.
     counted: [usize; 3],
+    counted_seconds: [f64; 2],
 }
 
 /// A condensed soil and the interface system's factorisation on it, with the run's counts and
@@ -91,7 +93,12 @@ impl<'a> Ready<'a> {
                         dense.key = interface.key;
                         dense
                     }
-                    None => InterfaceLu { key: interface.key, lu: UpdatedLu::new(schur, change), counted: [0; 3] },
+                    None => InterfaceLu {
+                        key: interface.key,
+                        lu: UpdatedLu::new(schur, change),
+                        counted: [0; 3],
+                        counted_seconds: [0.0; 2],
+                    },
                 };
                 tally(&mut made, stats);
                 stats.dense_seconds += t.elapsed().as_secs_f64();
@@ -182,12 +189,16 @@ impl Refinable for Ready<'_> {
     }
 }
 
-/// Add the interface factorisation's factorisations, updates and iterations since the last tally
-/// to the run's counts.
+/// Add the interface factorisation's factorisations, updates and iterations since the last tally,
+/// and their times, to the run's counts.
 fn tally(interface: &mut InterfaceLu, stats: &mut SolverStats) {
     let now = [interface.lu.factorizations, interface.lu.updates, interface.lu.iterations];
     stats.dense_factorizations += now[0] - interface.counted[0];
     stats.dense_updates += now[1] - interface.counted[1];
     stats.dense_iterations += now[2] - interface.counted[2];
     interface.counted = now;
+    let seconds = [interface.lu.factorization_seconds, interface.lu.iteration_seconds];
+    stats.dense_factorization_seconds += seconds[0] - interface.counted_seconds[0];
+    stats.dense_iteration_seconds += seconds[1] - interface.counted_seconds[1];
+    interface.counted_seconds = seconds;
 }

@@ -28,6 +28,7 @@ use super::kept_matrix::{KeptMatrix, SoilSchur, SparseColumns};
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::solvers::{PartialPivLu, Solve};
 use faer::{get_global_parallelism, Mat};
+use std::time::Instant;
 
 /// The largest share of the columns a low-rank update may change before a new factorisation.
 pub const MAX_UPDATE_SHARE: f64 = 0.08;
@@ -67,16 +68,21 @@ pub struct UpdatedLu {
     solves_per_matrix: f64,
     /// Mean BiCGSTAB iterations of a solve that converged.
     iterations_per_solve: f64,
-    /// Factorisations, low-rank updates and BiCGSTAB iterations over this object's life.
+    /// Factorisations, low-rank updates and BiCGSTAB iterations over this object's life, and the
+    /// time in the factorisations and in the iterations.
     pub factorizations: usize,
     pub updates: usize,
     pub iterations: usize,
+    pub factorization_seconds: f64,
+    pub iteration_seconds: f64,
 }
 
 impl UpdatedLu {
     /// Factorise S + `change`.
     pub fn new(schur: &SoilSchur, change: SparseColumns) -> UpdatedLu {
+        let t = Instant::now();
         let lu = BlockLu::of(KeptMatrix { schur, change: &change });
+        let factorization_seconds = t.elapsed().as_secs_f64();
         UpdatedLu {
             base: change,
             lu,
@@ -89,6 +95,8 @@ impl UpdatedLu {
             factorizations: 1,
             updates: 0,
             iterations: 0,
+            factorization_seconds,
+            iteration_seconds: 0.0,
         }
     }
 
@@ -148,7 +156,9 @@ impl UpdatedLu {
     fn refactorize(&mut self, schur: &SoilSchur, change: SparseColumns) {
         self.update = None;
         self.drifted = None;
+        let t = Instant::now();
         self.lu.refactorize(KeptMatrix { schur, change: &change });
+        self.factorization_seconds += t.elapsed().as_secs_f64();
         self.base = change;
         self.iterations_since = 0;
         self.factorizations += 1;
@@ -163,7 +173,9 @@ impl UpdatedLu {
             }
         }
         if let Some(change) = self.drifted.take() {
+            let t = Instant::now();
             let (x, iterations) = iterate(&self.lu, KeptMatrix { schur, change: &change }, b);
+            self.iteration_seconds += t.elapsed().as_secs_f64();
             self.iterations += iterations;
             self.iterations_since += iterations;
             match x {

@@ -26,7 +26,9 @@ pub(super) fn node_and_edge_sets(d: &mut Draft, file: &ModelFile, p: &mut Proble
         node_sets.insert(name.clone(), set);
     }
     let sides = SideMap::new(mesh);
-    let built: std::collections::HashSet<u64> = mesh.solids.iter().map(|e| e.id).collect();
+    // (the elements built, wanted only when some could not be)
+    let built: std::collections::HashSet<u64> =
+        if *mesh_ok { Default::default() } else { mesh.solids.iter().map(|e| e.id).collect() };
     let broken_at = |edge: &[u64]| {
         file.elements
             .iter()
