@@ -71,14 +71,25 @@ pub fn split_reinforcement(
     // Elements touching each node to be split, and whether they lie left of head → tail.
     let tail = path.len() - 1;
     let split_count = if boundary[path[tail]] { path.len() } else { tail };
-    let mut touching: HashMap<NodeIndex, Vec<usize>> = HashMap::new();
+    // (a list for each node of the path only: one for every node of the mesh grew faster than it)
+    const NONE: usize = usize::MAX;
+    let mut slot = vec![NONE; mesh.nodes.len()];
+    let mut touching: Vec<Vec<usize>> = Vec::with_capacity(path.len());
+    for &p in &path {
+        if slot[p] == NONE {
+            slot[p] = touching.len();
+            touching.push(Vec::new());
+        }
+    }
     for (s, solid) in mesh.solids.iter().enumerate() {
         for &v in &solid.nodes {
-            touching.entry(v).or_default().push(s);
+            if slot[v] != NONE {
+                touching[slot[v]].push(s);
+            }
         }
     }
     for &p in &path {
-        for &s in touching.get(&p).into_iter().flatten() {
+        for &s in &touching[slot[p]] {
             if mesh.solids[s].kind.is_quadratic() {
                 problems.push(
                     "path",
@@ -98,7 +109,7 @@ pub fn split_reinforcement(
         let twin = mesh.add_node(next_id, x);
         next_id += 1;
         record.twins.insert(p, twin);
-        for &s in touching.get(&p).into_iter().flatten() {
+        for &s in &touching[slot[p]] {
             let c = sub(mesh.centroid(s), x);
             let left = match (ahead, behind) {
                 (Some(b), Some(a)) => ccw_angle(b, c) < ccw_angle(b, a),
