@@ -53,7 +53,14 @@ fn unchanged(entry: &Entry, stat: &rustix::fs::Stat) -> bool {
     entry.size.is_none_or(|s| s == stat.st_size as u64) && entry.mtime_ns.is_none_or(|t| t == mtime_ns(stat))
 }
 
-/// Remove what the record in `root` lists and is unchanged: first each recorded folder is moved
+/// Whether the file at `rel` is an index that names other files of the run (ParaView's and the
+/// XDMF reader's entry points).
+fn lists_others(rel: &str) -> bool {
+    rel.ends_with(".xdmf") || rel.ends_with(".pvd")
+}
+
+/// Remove what the record in `root` lists and is unchanged: first the indexes that name other
+/// files ([`lists_others`]), then each recorded folder is moved
 /// aside whole (to [`removal_name`]), shallowest first, then the files are removed, deepest first,
 /// then the folders, once empty. Returns the files an earlier run wrote that have changed since
 /// (and then removes nothing).
@@ -98,6 +105,20 @@ pub(super) fn remove_recorded(root: &OwnedFd, path: &Path, inputs: &[(u64, u64)]
     }
     if !changed.is_empty() {
         return Ok(changed);
+    }
+    // the indexes go first (`results.xdmf`, `results.pvd`: files that list others), so that a run
+    // killed in the middle of this never leaves an index naming a file already removed
+    for (rel, lines) in entries.iter().filter(|(rel, _)| lists_others(rel)) {
+        let Some((parent, stat)) = stat_at(rel) else { continue };
+        let Some(entry) = recorded(lines, &stat) else { continue };
+        if entry.kind != Kind::File || is_input(&stat) || !unchanged(entry, &stat) {
+            continue;
+        }
+        let last = rel.rsplit('/').next().unwrap_or(rel);
+        match rustix::fs::unlinkat(&parent, last, AtFlags::empty()) {
+            Ok(()) | Err(rustix::io::Errno::NOENT) => {}
+            Err(e) => return Err(Error::Write { path: path.join(rel), source: io(e) }),
+        }
     }
     // where each recorded folder is now: its own place, or the name it was moved aside to (each
     // move is in the names the moves before it left)
