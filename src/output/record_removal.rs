@@ -106,18 +106,29 @@ pub(super) fn remove_recorded(root: &OwnedFd, path: &Path, inputs: &[(u64, u64)]
     if !changed.is_empty() {
         return Ok(changed);
     }
+    // remove what is at `current` if it is what `lines` recorded, unchanged and no input
+    let remove = |current: &str, lines: &[Entry]| -> Result<(), Error> {
+        let Some((parent, stat)) = stat_at(current) else { return Ok(()) };
+        let Some(entry) = recorded(lines, &stat) else { return Ok(()) };
+        if is_input(&stat) || !unchanged(entry, &stat) {
+            return Ok(());
+        }
+        let last = current.rsplit('/').next().unwrap_or(current);
+        let flags = if entry.kind == Kind::Folder { AtFlags::REMOVEDIR } else { AtFlags::empty() };
+        match rustix::fs::unlinkat(&parent, last, flags) {
+            // a folder that holds what the run did not make stays, with it
+            Ok(())
+            | Err(rustix::io::Errno::NOENT)
+            | Err(rustix::io::Errno::NOTEMPTY)
+            | Err(rustix::io::Errno::EXIST) => Ok(()),
+            Err(e) => Err(Error::Write { path: path.join(current), source: io(e) }),
+        }
+    };
     // the indexes go first (`results.xdmf`, `results.pvd`: files that list others), so that a run
     // killed in the middle of this never leaves an index naming a file already removed
-    for (rel, lines) in entries.iter().filter(|(rel, _)| lists_others(rel)) {
-        let Some((parent, stat)) = stat_at(rel) else { continue };
-        let Some(entry) = recorded(lines, &stat) else { continue };
-        if entry.kind != Kind::File || is_input(&stat) || !unchanged(entry, &stat) {
-            continue;
-        }
-        let last = rel.rsplit('/').next().unwrap_or(rel);
-        match rustix::fs::unlinkat(&parent, last, AtFlags::empty()) {
-            Ok(()) | Err(rustix::io::Errno::NOENT) => {}
-            Err(e) => return Err(Error::Write { path: path.join(rel), source: io(e) }),
+    for (rel, lines) in &entries {
+        if lists_others(rel) && lines.iter().all(|e| e.kind == Kind::File) {
+            remove(rel, lines)?;
         }
     }
     // where each recorded folder is now: its own place, or the name it was moved aside to (each
@@ -169,21 +180,7 @@ pub(super) fn remove_recorded(root: &OwnedFd, path: &Path, inputs: &[(u64, u64)]
         (std::cmp::Reverse(p.matches('/').count()), lines.iter().all(|e| e.kind == Kind::Folder))
     });
     for (lines, current) in ordered {
-        let Some((parent, stat)) = stat_at(&current) else { continue };
-        let Some(entry) = recorded(lines, &stat) else { continue };
-        if is_input(&stat) || !unchanged(entry, &stat) {
-            continue;
-        }
-        let last = current.rsplit('/').next().unwrap_or(&current);
-        let flags = if entry.kind == Kind::Folder { AtFlags::REMOVEDIR } else { AtFlags::empty() };
-        match rustix::fs::unlinkat(&parent, last, flags) {
-            // a folder that holds what the run did not make stays, with it
-            Ok(())
-            | Err(rustix::io::Errno::NOENT)
-            | Err(rustix::io::Errno::NOTEMPTY)
-            | Err(rustix::io::Errno::EXIST) => {}
-            Err(e) => return Err(Error::Write { path: path.join(&current), source: io(e) }),
-        }
+        remove(&current, lines)?;
     }
     // a folder moved aside that keeps what the run did not make goes back to its place
     for (from, to) in moved.iter().rev() {
