@@ -19,9 +19,7 @@
 mod common;
 
 use geoslip::linsol::Backend;
-use geoslip::meshgen::{support, Block};
 use geoslip::model::file::*;
-use std::collections::BTreeMap;
 
 const Q: f64 = 100.0;
 const C: f64 = 10.0;
@@ -30,48 +28,27 @@ const RADIUS: f64 = 0.5;
 const HEIGHT: f64 = 1.0;
 
 fn triaxial(kind: SolidKind) -> ModelFile {
-    let block = Block::new(kind, (0.0, 0.0), (RADIUS, HEIGHT), (2, 2), "sand", 1, 1);
-    let mut node_sets = BTreeMap::new();
-    node_sets.insert("base".into(), block.row_nodes(0));
-    node_sets.insert("top".into(), block.row_nodes(2));
-    let mut edge_sets = BTreeMap::new();
-    edge_sets.insert("side".into(), block.column_edges(2));
-    edge_sets.insert("top".into(), block.row_edges(2));
     let mut sand = SoilMaterial::linear_elastic(2.0e4, 0.3, 0.0);
     sand.model = SoilModel::MohrCoulomb;
     sand.cohesion = C;
     sand.friction_angle = PHI;
     sand.dilatancy_angle = PHI;
-    let mut soil = BTreeMap::new();
-    soil.insert("sand".into(), sand);
     let pressure = |set: &str| LoadSpec::EdgeTraction { name: None, edge_set: set.into(), pressure: Q, shear: 0.0 };
-    let mut file = geoslip::model::file::ModelFile {
-        title: "triaxial compression".into(),
-        materials: geoslip::model::file::Materials { soil, ..Default::default() },
-        nodes: block.nodes,
-        elements: block.elements,
-        node_sets,
-        supports: vec![support("base", &[Direction::Y])],
-        stages: vec![
-            Stage {
-                name: "cell pressure".into(),
-                load_factors: vec![1.0],
-                loads: vec![pressure("side"), pressure("top")],
-                ..Default::default()
-            },
-            Stage {
-                name: "compression".into(),
-                load_factors: (1..=20).map(|k| k as f64 / 20.0).collect(),
-                prescribed: vec![common::prescribed("top", None, Some(-0.03))],
-                ..Default::default()
-            },
-        ],
-        analysis: common::newton(1e-9),
-        ..Default::default()
-    };
-    file.edge_sets = edge_sets;
-    file.analysis.geometry = Geometry::Axisymmetric;
-    file
+    let stages = vec![
+        Stage {
+            name: "cell pressure".into(),
+            load_factors: vec![1.0],
+            loads: vec![pressure("side"), pressure("top")],
+            ..Default::default()
+        },
+        Stage {
+            name: "compression".into(),
+            load_factors: (1..=20).map(|k| k as f64 / 20.0).collect(),
+            prescribed: vec![common::prescribed("top", None, Some(-0.03))],
+            ..Default::default()
+        },
+    ];
+    common::triaxial_sample(kind, (RADIUS, HEIGHT), sand, stages, 1e-9)
 }
 
 fn fails_at_the_mohr_coulomb_deviator(kind: SolidKind) {

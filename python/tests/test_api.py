@@ -8,6 +8,7 @@ different build of the same code may differ in the last bits of what is round-of
 
 import _thread
 import csv
+import json
 import os
 import pathlib
 import signal
@@ -104,6 +105,30 @@ def test_a_results_folder_opens_as_the_same_history(cli_run, dict_run):
     np.testing.assert_allclose(a["reaction"], b["reaction"], rtol=1e-10)
     assert len(opened.steps) == 61
     np.testing.assert_allclose(opened.steps[-1]["interface"]["tau"], dict_run.steps[-1]["interface"]["tau"], rtol=1e-9, atol=1e-12)
+
+
+def test_a_duncan_chang_soil_from_a_dict_runs_as_the_cli(tmp_path):
+    # the paper's pull-out with its soil made hyperbolic (docs/model-format.md, Materials)
+    data = tomllib.loads(PAPER.read_text())
+    soil = data["materials"]["soil"]["soil"]
+    del soil["youngs_modulus"], soil["poissons_ratio"]
+    soil.update(
+        model="duncan-chang",
+        cohesion=5.0,
+        friction_angle=30.0,
+        hyperbolic={"K": 300.0, "n": 0.5, "Rf": 0.8, "Kb": 150.0, "m": 0.25, "Kur": 600.0, "delta_phi": 2.0},
+    )
+    model_file = tmp_path / "hyperbolic.json"
+    model_file.write_text(json.dumps(data))
+    out = tmp_path / "cli"
+    subprocess.run([cli(), "run", "-q", "--csv", "--solver", "faer", "--out", str(out), str(model_file)], check=True)
+    run = geoslip.Model.from_dict(data, name="hyperbolic.json").run(solver="faer")
+    with open(out / "history.csv", newline="") as f:
+        rows = list(csv.DictReader(f))
+    h = run.history["grid.head (x)"]
+    assert len(rows) == len(h["reaction"]) == 61
+    assert_same([r["reaction [kN/m]"] for r in rows], h["reaction"], "reaction")
+    assert run.completed
 
 
 def test_a_bad_model_raises_with_the_field_path():

@@ -142,6 +142,7 @@ fn check_soil(saved: &Checkpoint, model: &Model) -> Result<(), Misfit> {
         for point in &e.points {
             finite(&point.stress, &what("stress"))?;
             finite(&[point.plastic_strain], &what("plastic strain"))?;
+            finite(&[point.largest_stress_state], &what("largest stress state"))?;
         }
         if !e.pore.is_empty() {
             length(&e.pore, points, &what("pore pressure"))?;

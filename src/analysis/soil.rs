@@ -6,11 +6,13 @@
 //! - A linear-elastic element keeps a reference state (its stresses when placed or given K0
 //!   stresses, and its displacements then): σ′ = σ′₀ + D·B·(u − u₀), so its force is
 //!   ∫Bᵀσ′₀ dA + K_e·(u − u₀) and K_e is computed once.
-//! - A Mohr–Coulomb element keeps the committed σ′ at each Gauss point; each iteration updates it
-//!   for the strain since the last converged increment (`mohr_coulomb::update`). A cutback restores
-//!   the committed state with the rest of the run's state.
+//! - A Mohr–Coulomb or Duncan–Chang element keeps the committed σ′ at each Gauss point (and a
+//!   Duncan–Chang point its largest stress state); each iteration updates it for the strain since
+//!   the last converged increment ([`SoilLaw::update`]). A cutback restores the committed state
+//!   with the rest of the run's state.
 
-use crate::element::mohr_coulomb::{self, MohrCoulomb, YieldState};
+use crate::element::mohr_coulomb::{self, YieldState};
+use crate::element::soil_law::SoilLaw;
 use crate::element::soil_state::WaterTable;
 pub use crate::element::soil_state::{element_force, ElementState, PointState, SoilField, SoilTrial, Tangent};
 use crate::element::solid::{self, Integration, MappedPoint, PlaneStrain};
@@ -18,10 +20,10 @@ use crate::model::Model;
 use nalgebra::DMatrix;
 use rayon::prelude::*;
 
-/// What does not change through a run: each element's laws, its DOFs, and the Gauss points of the
-/// Mohr–Coulomb elements (mapped once).
+/// What does not change through a run: each element's law, its DOFs, and the Gauss points of the
+/// elements with a law (mapped once).
 pub struct SoilSetup {
-    pub laws: Vec<Option<MohrCoulomb>>,
+    pub laws: Vec<Option<SoilLaw>>,
     pub elastic: Vec<PlaneStrain>,
     pub dofs: Vec<Vec<usize>>,
     pub rule: Integration,
@@ -32,31 +34,28 @@ impl SoilSetup {
     pub fn new(model: &Model) -> SoilSetup {
         let rule = model.integration();
         let mesh = &model.mesh;
-        let laws: Vec<Option<MohrCoulomb>> = (0..mesh.solids.len()).map(|s| model.strength(s)).collect();
-        let elastic = (0..mesh.solids.len())
-            .map(|s| {
-                let m = model.soil(s);
-                PlaneStrain { youngs_modulus: m.youngs_modulus, poissons_ratio: m.poissons_ratio }
-            })
-            .collect();
+        let laws: Vec<Option<SoilLaw>> = (0..mesh.solids.len()).map(|s| model.soil_law(s)).collect();
+        let elastic = (0..mesh.solids.len()).map(|s| model.elasticity(s)).collect();
         let dofs = mesh.solids.iter().map(|e| e.nodes.iter().flat_map(|&n| [2 * n, 2 * n + 1]).collect()).collect();
         let points =
             mesh.solids.par_iter().zip(&laws).map(|(e, law)| law.map(|_| element_points(model, e, rule))).collect();
         SoilSetup { laws, elastic, dofs, rule, points }
     }
 
+    /// Whether the element keeps its stresses (it has a law: it may yield, or its stiffness
+    /// follows its stresses).
     pub fn is_plastic(&self, solid: usize) -> bool {
         self.laws[solid].is_some()
     }
 
-    /// Whether any element may yield.
+    /// Whether any element keeps its stresses.
     pub fn any_plastic(&self) -> bool {
         self.laws.iter().any(|l| l.is_some())
     }
 
     /// Whether some law has ψ ≠ φ (an unsymmetric consistent tangent).
     pub fn non_associated(&self) -> bool {
-        self.laws.iter().flatten().any(|l| l.dilatancy_angle != l.friction_angle)
+        self.laws.iter().flatten().any(|l| l.non_associated())
     }
 }
 
@@ -371,7 +370,12 @@ pub fn set_k0(model: &Model, setup: &SoilSetup, field: &mut SoilField, u: &[f64]
                     let sv = vertical_stress(p.x) - pore;
                     let stress = [-k0 * sv, -sv, 0.0, -k0 * sv];
                     add_bt_sigma(p, stress, &mut force);
-                    PointState { stress, plastic_strain: 0.0, yield_state: YieldState::Elastic }
+                    PointState {
+                        stress,
+                        plastic_strain: 0.0,
+                        yield_state: YieldState::Elastic,
+                        largest_stress_state: 0.0,
+                    }
                 })
                 .collect();
             Some((states, force))
@@ -408,8 +412,10 @@ fn vertical_chord(poly: &[[f64; 2]], x: f64) -> Option<(f64, f64)> {
     (hi >= lo).then_some((lo, hi))
 }
 
-/// Update every present Mohr–Coulomb element for the displacements since the last converged
-/// increment.
+/// Update every present element with a law for the displacements since the last converged
+/// increment. A Duncan–Chang element always gives its tangent (its stiffness follows its
+/// stresses); with [`Tangent::Elastic`], its moduli at the updated stresses without the plastic
+/// part.
 pub fn evaluate(setup: &SoilSetup, field: &SoilField, u: &[f64], u_committed: &[f64], tangent: Tangent) -> SoilTrial {
     let n = setup.laws.len();
     if !setup.any_plastic() {
@@ -431,7 +437,7 @@ pub fn evaluate(setup: &SoilSetup, field: &SoilField, u: &[f64], u_committed: &[
             let mut yielding = 0;
             for (g, p) in points.iter().enumerate() {
                 let old = committed.get(g).copied().unwrap_or_default();
-                let update = mohr_coulomb::update_with_hoop(law, &setup.elastic[s], old.stress, strain(p, &du));
+                let (update, state, elasticity) = law.update(&setup.elastic[s], &old, strain(p, &du));
                 add_bt_sigma(p, update.stress, &mut force);
                 if update.state.is_plastic() {
                     yielding += 1;
@@ -446,16 +452,12 @@ pub fn evaluate(setup: &SoilSetup, field: &SoilField, u: &[f64], u_committed: &[
                         _ => update.tangent,
                     }
                 } else {
-                    setup.elastic[s].d_matrix_with_hoop()
+                    elasticity.d_matrix_with_hoop()
                 };
                 k += solid::point_stiffness(p, &c);
-                states.push(PointState {
-                    stress: update.stress,
-                    plastic_strain: old.plastic_strain + update.plastic_strain,
-                    yield_state: update.state,
-                });
+                states.push(state);
             }
-            let tangent = (yielding > 0 && tangent != Tangent::Elastic).then_some(k);
+            let tangent = ((yielding > 0 && tangent != Tangent::Elastic) || law.is_nonlinear_elastic()).then_some(k);
             (Some(force), tangent, Some(states), yielding)
         })
         .collect();
@@ -516,8 +518,9 @@ struct ResultBuffers {
     points: Vec<MappedPoint>,
 }
 
-/// The Gauss-point results of soil element `s` (none when it is absent): an elastic element's
-/// stress from the displacements `u`, a Mohr–Coulomb element's as last committed.
+/// The Gauss-point results of soil element `s` (none when it is absent): a linear-elastic
+/// element's stress from the displacements `u`, the stress of an element with a law as last
+/// committed.
 fn element_results(
     model: &Model,
     field: &SoilField,
@@ -542,9 +545,8 @@ fn element_results(
     coords.extend(e.nodes.iter().map(|&n| model.mesh.position(n)));
     solid::mapped_points_of_checked_into(e.kind, coords, model.integration(), model.mesh.geometry, points)
         .expect("element Jacobians were checked when the model was read");
-    let m = model.soil(s);
-    let elastic = PlaneStrain { youngs_modulus: m.youngs_modulus, poissons_ratio: m.poissons_ratio };
-    let plastic = model.strength(s).is_some();
+    let elastic = model.elasticity(s);
+    let plastic = model.soil_law(s).is_some();
     points
         .iter()
         .enumerate()

@@ -191,25 +191,28 @@ pub fn trial_stress(elastic: &PlaneStrain, committed: [f64; 4], d_strain: [f64; 
 }
 
 /// The candidate active sets, fewest planes first, in the order of the `Planes` list (the 1–3 shear
-/// plane, then tension, then the edges and corners).
-fn candidate_sets() -> Vec<Vec<usize>> {
-    let mut sets = Vec::new();
-    for a in 0..6 {
-        sets.push(vec![a]);
-    }
-    for a in 0..6 {
-        for b in a + 1..6 {
-            sets.push(vec![a, b]);
+/// plane, then tension, then the edges and corners): made once.
+fn candidate_sets() -> &'static [Vec<usize>] {
+    static SETS: std::sync::OnceLock<Vec<Vec<usize>>> = std::sync::OnceLock::new();
+    SETS.get_or_init(|| {
+        let mut sets = Vec::new();
+        for a in 0..6 {
+            sets.push(vec![a]);
         }
-    }
-    for a in 0..6 {
-        for b in a + 1..6 {
-            for c in b + 1..6 {
-                sets.push(vec![a, b, c]);
+        for a in 0..6 {
+            for b in a + 1..6 {
+                sets.push(vec![a, b]);
             }
         }
-    }
-    sets
+        for a in 0..6 {
+            for b in a + 1..6 {
+                for c in b + 1..6 {
+                    sets.push(vec![a, b, c]);
+                }
+            }
+        }
+        sets
+    })
 }
 
 /// [`update_with_hoop`] in plane strain (εzz = 0).
@@ -263,26 +266,28 @@ pub fn update_with_hoop(
     let mut found: Option<(Vector3<f64>, Matrix3<f64>, Vec<usize>)> = None;
     for set in candidate_sets() {
         let n = set.len();
-        // Aᵀ·D_p·B Δλ = f(trial)
-        let mut g = nalgebra::DMatrix::zeros(n, n);
-        let mut rhs = nalgebra::DVector::zeros(n);
+        if set.iter().any(|&i| !planes.planes[i].2.is_finite()) {
+            continue; // no tension cut-off
+        }
+        // Aᵀ·D_p·B Δλ = f(trial), in the leading n×n block of a 3×3 system padded with the
+        // identity (the padding leaves the block's inverse and determinant as they are)
+        let mut g = Matrix3::identity();
+        let mut rhs = Vector3::zeros();
+        let mut g_max = 0.0f64;
         for (r, &i) in set.iter().enumerate() {
             let (a, _, k, _) = &planes.planes[i];
             rhs[r] = a.dot(&sorted) - k;
             for (c, &j) in set.iter().enumerate() {
                 g[(r, c)] = a.dot(&(dp * planes.planes[j].1));
+                g_max = g_max.max(g[(r, c)].abs());
             }
         }
-        if set.iter().any(|&i| !planes.planes[i].2.is_finite()) {
-            continue; // no tension cut-off
-        }
-        let Some(inverse) = g.clone().try_inverse() else { continue };
-        if !(inverse.amax().is_finite()) || g.determinant().abs() < 1e-12 * g.amax().powi(n as i32) {
+        let Some(inverse) = g.try_inverse() else { continue };
+        if !(inverse.amax().is_finite()) || g.determinant().abs() < 1e-12 * g_max.powi(n as i32) {
             continue;
         }
-        let dl = &inverse * &rhs;
-        if dl.iter().any(|l| !l.is_finite()) || dl.iter().any(|&l| l < -1e-12 * scale / g.amax().max(f64::MIN_POSITIVE))
-        {
+        let dl = inverse * rhs;
+        if dl.iter().any(|l| !l.is_finite()) || dl.iter().any(|&l| l < -1e-12 * scale / g_max.max(f64::MIN_POSITIVE)) {
             continue;
         }
         let mut flow = Vector3::zeros();
@@ -293,9 +298,9 @@ pub fn update_with_hoop(
         if !admissible(law, &s, 1e-9 * scale) {
             continue;
         }
-        // J = I − D_p·B·(Aᵀ·D_p·B)⁻¹·Aᵀ
-        let mut db = nalgebra::DMatrix::zeros(3, n);
-        let mut at = nalgebra::DMatrix::zeros(n, 3);
+        // J = I − D_p·B·(Aᵀ·D_p·B)⁻¹·Aᵀ (the padding's columns of D_p·B and rows of Aᵀ are zero)
+        let mut db = Matrix3::zeros();
+        let mut at = Matrix3::zeros();
         for (c, &j) in set.iter().enumerate() {
             let b = dp * planes.planes[j].1;
             for r in 0..3 {
@@ -303,8 +308,7 @@ pub fn update_with_hoop(
                 at[(c, r)] = planes.planes[j].0[r];
             }
         }
-        let correction = db * inverse * at;
-        let j = Matrix3::identity() - Matrix3::from_fn(|r, c| correction[(r, c)]);
+        let j = Matrix3::identity() - db * inverse * at;
         found = Some((s, j, set.clone()));
         break;
     }

@@ -18,6 +18,9 @@ pub struct PointState {
     /// Accumulated equivalent plastic strain.
     pub plastic_strain: f64,
     pub yield_state: YieldState,
+    /// Duncan–Chang soil: the largest stress state SS = SL·(σ3/pa)^¼ the point has had (the
+    /// loading criterion's memory); zero for other soils.
+    pub largest_stress_state: f64,
 }
 
 /// The state of one soil element.

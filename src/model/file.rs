@@ -247,31 +247,40 @@ pub struct Materials {
     pub reinforcement: BTreeMap<String, ReinforcementMaterial>,
 }
 
-/// Plane-strain soil: linear elastic, or elastic–perfectly plastic Mohr–Coulomb with a tension
-/// cut-off. Stresses are effective stresses; pore pressures come from a stage's `water`.
+/// Plane-strain soil: linear elastic, elastic–perfectly plastic Mohr–Coulomb with a tension
+/// cut-off, or Duncan–Chang hyperbolic with the Mohr–Coulomb strength as its limit. Stresses are
+/// effective stresses; pore pressures come from a stage's `water`.
 #[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SoilMaterial {
-    /// `linear-elastic` (default) or `mohr-coulomb`.
+    /// `linear-elastic` (default), `mohr-coulomb` or `duncan-chang`.
     #[serde(default)]
     pub model: SoilModel,
-    /// Young's modulus E [stress].
-    pub youngs_modulus: f64,
-    /// Poisson's ratio ν, 0 ≤ ν < 0.5.
-    pub poissons_ratio: f64,
+    /// Young's modulus E [stress]: linear-elastic and Mohr–Coulomb soil.
+    #[serde(default)]
+    pub youngs_modulus: Option<f64>,
+    /// Poisson's ratio ν, 0 ≤ ν < 0.5: linear-elastic and Mohr–Coulomb soil.
+    #[serde(default)]
+    pub poissons_ratio: Option<f64>,
+    /// Duncan–Chang soil: the hyperbolic stiffness parameters (E–B form).
+    #[serde(default)]
+    pub hyperbolic: Option<HyperbolicParameters>,
     /// Unit weight γ [force/length³] above the water table, used by `gravity` loads.
     #[serde(default)]
     pub unit_weight: f64,
     /// Unit weight below the water table [force/length³]; default `unit_weight`.
     #[serde(default)]
     pub saturated_unit_weight: Option<f64>,
-    /// Mohr–Coulomb: effective cohesion c′ [stress] (the undrained strength c_u with φ = 0).
+    /// Mohr–Coulomb and Duncan–Chang: effective cohesion c′ [stress] (the undrained strength c_u
+    /// with φ = 0).
     #[serde(default)]
     pub cohesion: f64,
-    /// Mohr–Coulomb: effective friction angle φ′ [degrees].
+    /// Mohr–Coulomb and Duncan–Chang: effective friction angle φ′ [degrees] (Duncan–Chang: φ0, at
+    /// σ3 = pa).
     #[serde(default)]
     pub friction_angle: f64,
-    /// Mohr–Coulomb: dilatancy angle ψ [degrees], 0 ≤ ψ ≤ φ (ψ < φ: non-associated flow).
+    /// Mohr–Coulomb and Duncan–Chang: dilatancy angle ψ [degrees], 0 ≤ ψ ≤ φ (ψ < φ:
+    /// non-associated flow).
     #[serde(default)]
     pub dilatancy_angle: f64,
     /// Mohr–Coulomb: tension cut-off σt [stress], the largest principal stress allowed. Default and
@@ -279,9 +288,39 @@ pub struct SoilMaterial {
     #[serde(default)]
     pub tensile_strength: Option<f64>,
     /// Earth pressure coefficient at rest for the `k0` initial stresses: σ′h = K0·σ′v. Default
-    /// 1 − sin φ (Jáky) for Mohr–Coulomb soil, ν/(1 − ν) for linear-elastic soil.
+    /// 1 − sin φ (Jáky) for Mohr–Coulomb and Duncan–Chang soil, ν/(1 − ν) for linear-elastic soil.
     #[serde(default)]
     pub k0: Option<f64>,
+}
+
+/// The stiffness of a Duncan–Chang soil by the parameters' usual names (Duncan, Byrne, Wong &
+/// Mabry 1980): Ei = K·pa·(σ3/pa)^n, Eur = Kur·pa·(σ3/pa)^n, B = Kb·pa·(σ3/pa)^m,
+/// Et = (1 − Rf·SL)²·Ei, φ = φ0 − Δφ·log10(σ3/pa). docs/soil.md has the whole law.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct HyperbolicParameters {
+    /// The modulus number K.
+    #[serde(rename = "K")]
+    pub modulus_number: f64,
+    /// The modulus exponent n.
+    pub n: f64,
+    /// The failure ratio Rf, 0 < Rf < 1.
+    #[serde(rename = "Rf")]
+    pub failure_ratio: f64,
+    /// The bulk modulus number Kb.
+    #[serde(rename = "Kb")]
+    pub bulk_modulus_number: f64,
+    /// The bulk modulus exponent m.
+    pub m: f64,
+    /// The unloading–reloading modulus number Kur (at least K).
+    #[serde(rename = "Kur")]
+    pub unloading_modulus_number: f64,
+    /// Δφ [degrees]: the drop of φ for a tenfold σ3 (0: a straight envelope).
+    #[serde(default)]
+    pub delta_phi: f64,
+    /// Atmospheric pressure pa [stress]; default 101.325 kPa in the file's units.
+    #[serde(default)]
+    pub pa: Option<f64>,
 }
 
 impl SoilMaterial {
@@ -289,8 +328,9 @@ impl SoilMaterial {
     pub fn linear_elastic(youngs_modulus: f64, poissons_ratio: f64, unit_weight: f64) -> SoilMaterial {
         SoilMaterial {
             model: SoilModel::LinearElastic,
-            youngs_modulus,
-            poissons_ratio,
+            youngs_modulus: Some(youngs_modulus),
+            poissons_ratio: Some(poissons_ratio),
+            hyperbolic: None,
             unit_weight,
             saturated_unit_weight: None,
             cohesion: 0.0,
@@ -304,8 +344,11 @@ impl SoilMaterial {
     /// K0 for the `k0` initial stresses (the default when the file gives none).
     pub fn k0(&self) -> f64 {
         self.k0.unwrap_or(match self.model {
-            SoilModel::MohrCoulomb => 1.0 - self.friction_angle.to_radians().sin(),
-            SoilModel::LinearElastic => self.poissons_ratio / (1.0 - self.poissons_ratio),
+            SoilModel::MohrCoulomb | SoilModel::DuncanChang => 1.0 - self.friction_angle.to_radians().sin(),
+            SoilModel::LinearElastic => {
+                let nu = self.poissons_ratio.unwrap_or(0.0);
+                nu / (1.0 - nu)
+            }
         })
     }
 
@@ -321,6 +364,7 @@ pub enum SoilModel {
     #[default]
     LinearElastic,
     MohrCoulomb,
+    DuncanChang,
 }
 
 /// A reinforcement, per metre width out of plane.

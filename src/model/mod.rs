@@ -345,19 +345,59 @@ impl Model {
         &self.soils[self.mesh.solids[solid].material].1
     }
 
-    /// The Mohr–Coulomb law of a soil element, or `None` when its soil is linear elastic.
-    pub fn strength(&self, solid: usize) -> Option<crate::element::mohr_coulomb::MohrCoulomb> {
-        let m = self.soil(solid);
-        (m.model == file::SoilModel::MohrCoulomb).then(|| {
-            let phi = m.friction_angle.to_radians();
-            let apex = if phi > 0.0 { m.cohesion / phi.tan() } else { f64::INFINITY };
-            crate::element::mohr_coulomb::MohrCoulomb {
-                cohesion: m.cohesion,
-                friction_angle: phi,
-                dilatancy_angle: m.dilatancy_angle.to_radians(),
-                tensile_strength: m.tensile_strength.unwrap_or(apex).min(apex),
+    /// The law of a soil element that keeps its stresses (Mohr–Coulomb or Duncan–Chang), or `None`
+    /// when its soil is linear elastic.
+    pub fn soil_law(&self, solid: usize) -> Option<crate::element::soil_law::SoilLaw> {
+        self.law_of(self.soil(solid))
+    }
+
+    /// The law of a soil material, as [`soil_law`](Self::soil_law).
+    fn law_of(&self, m: &SoilMaterial) -> Option<crate::element::soil_law::SoilLaw> {
+        use crate::element::soil_law::SoilLaw;
+        let phi = m.friction_angle.to_radians();
+        match m.model {
+            file::SoilModel::LinearElastic => None,
+            file::SoilModel::MohrCoulomb => {
+                let apex = if phi > 0.0 { m.cohesion / phi.tan() } else { f64::INFINITY };
+                Some(SoilLaw::MohrCoulomb(crate::element::mohr_coulomb::MohrCoulomb {
+                    cohesion: m.cohesion,
+                    friction_angle: phi,
+                    dilatancy_angle: m.dilatancy_angle.to_radians(),
+                    tensile_strength: m.tensile_strength.unwrap_or(apex).min(apex),
+                }))
             }
-        })
+            file::SoilModel::DuncanChang => {
+                let h = m.hyperbolic.as_ref().expect("a Duncan–Chang soil's parameters were checked");
+                Some(SoilLaw::DuncanChang(crate::element::duncan_chang::DuncanChang {
+                    modulus_number: h.modulus_number,
+                    modulus_exponent: h.n,
+                    failure_ratio: h.failure_ratio,
+                    bulk_modulus_number: h.bulk_modulus_number,
+                    bulk_modulus_exponent: h.m,
+                    unloading_modulus_number: h.unloading_modulus_number,
+                    cohesion: m.cohesion,
+                    friction_angle: phi,
+                    friction_angle_drop: h.delta_phi.to_radians(),
+                    dilatancy_angle: m.dilatancy_angle.to_radians(),
+                    atmospheric_pressure: h.pa.unwrap_or_else(|| Model::atmospheric_pressure(&self.units)),
+                }))
+            }
+        }
+    }
+
+    /// The elasticity of a soil element's matrices: E and ν as given, or a Duncan–Chang soil's
+    /// unloading moduli at σ3 = pa (its stiffness follows its stresses; this is its reference).
+    pub fn elasticity(&self, solid: usize) -> crate::element::solid::PlaneStrain {
+        match self.soil_law(solid) {
+            Some(crate::element::soil_law::SoilLaw::DuncanChang(law)) => law.reference_elasticity(),
+            _ => {
+                let m = self.soil(solid);
+                crate::element::solid::PlaneStrain {
+                    youngs_modulus: m.youngs_modulus.expect("E was checked"),
+                    poissons_ratio: m.poissons_ratio.expect("ν was checked"),
+                }
+            }
+        }
     }
 
     /// The Gauss rule of the soil elements.
@@ -369,15 +409,10 @@ impl Model {
         }
     }
 
-    /// Whether any soil yields (Mohr–Coulomb).
-    pub fn has_plastic_soil(&self) -> bool {
-        self.soils.iter().any(|(_, m)| m.model == file::SoilModel::MohrCoulomb)
-    }
-
-    /// Some Mohr–Coulomb soil flows non-associatively (ψ ≠ φ): its consistent tangent is
-    /// unsymmetric.
+    /// Some Mohr–Coulomb or Duncan–Chang soil flows non-associatively (its consistent tangent is
+    /// unsymmetric).
     pub fn has_non_associated_soil(&self) -> bool {
-        self.soils.iter().any(|(_, m)| m.model == file::SoilModel::MohrCoulomb && m.dilatancy_angle != m.friction_angle)
+        self.soils.iter().any(|(_, m)| self.law_of(m).is_some_and(|l| l.non_associated()))
     }
 
     /// Soil elements absent at the start: those a stage activates.
@@ -400,6 +435,16 @@ impl Model {
             }
         }
         absent
+    }
+
+    /// Atmospheric pressure, 101.325 kPa, in the given units.
+    pub fn atmospheric_pressure(units: &Units) -> f64 {
+        Model::default_water_weight(units) / 9.81
+            * 101.325
+            * match units.length {
+                file::LengthUnit::Metre => 1.0,
+                file::LengthUnit::Millimetre => 1e3,
+            }
     }
 
     /// γw of 9.81 kN/m³ in the given units.

@@ -25,7 +25,7 @@ use std::path::{Path, PathBuf};
 pub use super::folder::CHECKPOINT_FOLDER as FOLDER;
 
 /// The first bytes of a saved step: what it is and the layout's version.
-pub const MAGIC: &[u8; 16] = b"geoslip-step\0\0\0\x02";
+pub const MAGIC: &[u8; 16] = b"geoslip-step\0\0\0\x03";
 
 fn file_name(stage_index: usize, step: usize) -> String {
     format!("stage-{}-step-{step:05}.bin", stage_index + 1)
@@ -122,6 +122,13 @@ pub fn read(results: &Path, from: &From, model: &Model, memory_limit_mb: Option<
 /// (itself within `limit`), and the CRC compared.
 fn inflate(file: &[u8], limit: crate::input_file::SizeLimit) -> Result<Vec<u8>, String> {
     let header = MAGIC.len() + 12;
+    if file.len() >= header && file[..MAGIC.len() - 1] == MAGIC[..MAGIC.len() - 1] && file[15] != MAGIC[15] {
+        return Err(format!(
+            "it was written by a geoslip whose saved steps have layout {}, and this geoslip reads layout {}: run \
+             the model from its start",
+            file[15], MAGIC[15]
+        ));
+    }
     if file.len() < header || &file[..MAGIC.len()] != MAGIC {
         return Err("it is not a saved step of this geoslip (its first bytes are not a saved step's)".into());
     }

@@ -135,6 +135,35 @@ pub fn prescribed(set: &str, ux: Option<f64>, uy: Option<f64>) -> geoslip::model
     geoslip::model::file::PrescribedDisplacement { node: None, nodes: None, set: Some(set.into()), ux, uy }
 }
 
+/// A triaxial sample, axisymmetric: a `radius` × `height` block of 2 × 2 `kind` elements of the
+/// soil `sand`, its base held vertically, node sets `base` and `top`, edge sets `side` and `top`
+/// (for the cell pressure), run by Newton's method to `tolerance` through `stages`.
+pub fn triaxial_sample(
+    kind: geoslip::model::file::SolidKind,
+    (radius, height): (f64, f64),
+    sand: geoslip::model::file::SoilMaterial,
+    stages: Vec<geoslip::model::file::Stage>,
+    tolerance: f64,
+) -> ModelFile {
+    use geoslip::meshgen::{support, Block};
+    use geoslip::model::file::{Direction, Geometry, Materials};
+    let block = Block::new(kind, (0.0, 0.0), (radius, height), (2, 2), "sand", 1, 1);
+    let mut file = ModelFile {
+        title: "triaxial sample".into(),
+        materials: Materials { soil: [("sand".to_string(), sand)].into(), ..Default::default() },
+        node_sets: [("base".to_string(), block.row_nodes(0)), ("top".to_string(), block.row_nodes(2))].into(),
+        edge_sets: [("side".to_string(), block.column_edges(2)), ("top".to_string(), block.row_edges(2))].into(),
+        nodes: block.nodes,
+        elements: block.elements,
+        supports: vec![support("base", &[Direction::Y])],
+        stages,
+        analysis: newton(tolerance),
+        ..Default::default()
+    };
+    file.analysis.geometry = Geometry::Axisymmetric;
+    file
+}
+
 /// Newton's method with the consistent tangent, to a relative tolerance on force and displacement.
 pub fn newton(tolerance: f64) -> geoslip::model::file::AnalysisSettings {
     geoslip::model::file::AnalysisSettings {

@@ -14,23 +14,60 @@ pub(super) fn materials(d: &mut Draft, file: &ModelFile, p: &mut Problems) {
     for (name, m) in &d.soils {
         let entity = format!("soil material \"{name}\"");
         let f = |field: &str| format!("materials.soil.{name}.{field}");
-        if !(m.youngs_modulus.is_finite() && m.youngs_modulus > 0.0) {
-            p.push(f("youngs_modulus"), &entity, format!("must be a positive number, found {}", m.youngs_modulus));
-        }
-        if !(m.poissons_ratio.is_finite() && (0.0..0.5).contains(&m.poissons_ratio)) {
-            p.push(f("poissons_ratio"), &entity, format!("must be in [0, 0.5), found {}", m.poissons_ratio));
-        } else if m.poissons_ratio > MAX_POISSONS_RATIO {
-            let nu = m.poissons_ratio;
-            p.push(
-                f("poissons_ratio"),
-                &entity,
-                format!(
-                    "{nu} is too close to 0.5: the bulk modulus would be {:.1e} times the shear modulus, which locks \
-                     the displacement elements and leaves the stiffness matrix too ill-conditioned to solve; geoslip \
-                     takes at most {MAX_POISSONS_RATIO} (an undrained analysis is usually run at 0.495)",
-                    2.0 * (1.0 + nu) / (3.0 * (1.0 - 2.0 * nu))
+        if m.model == SoilModel::DuncanChang {
+            for (field, given) in
+                [("youngs_modulus", m.youngs_modulus.is_some()), ("poissons_ratio", m.poissons_ratio.is_some())]
+            {
+                if given {
+                    p.push(
+                        f(field),
+                        &entity,
+                        "a Duncan–Chang soil's stiffness follows its stresses: give K, n, Kb, m and Kur in `hyperbolic`, \
+                         not E and ν",
+                    );
+                }
+            }
+            match &m.hyperbolic {
+                Some(h) => hyperbolic(h, &f("hyperbolic"), &entity, p),
+                None => p.push(
+                    f("hyperbolic"),
+                    &entity,
+                    "a Duncan–Chang soil needs its stiffness parameters: hyperbolic = { K, n, Rf, Kb, m, Kur }",
                 ),
-            );
+            }
+        } else {
+            if m.hyperbolic.is_some() {
+                p.push(
+                    f("hyperbolic"),
+                    &entity,
+                    "applies to a Duncan–Chang soil: set model = \"duncan-chang\" to use it",
+                );
+            }
+            match m.youngs_modulus {
+                Some(e) if !(e.is_finite() && e > 0.0) => {
+                    p.push(f("youngs_modulus"), &entity, format!("must be a positive number, found {e}"))
+                }
+                Some(_) => {}
+                None => p.push(f("youngs_modulus"), &entity, "is required"),
+            }
+            match m.poissons_ratio {
+                Some(nu) if !(nu.is_finite() && (0.0..0.5).contains(&nu)) => {
+                    p.push(f("poissons_ratio"), &entity, format!("must be in [0, 0.5), found {nu}"))
+                }
+                Some(nu) if nu > MAX_POISSONS_RATIO => p.push(
+                    f("poissons_ratio"),
+                    &entity,
+                    format!(
+                        "{nu} is too close to 0.5: the bulk modulus would be {:.1e} times the shear modulus, which \
+                         locks the displacement elements and leaves the stiffness matrix too ill-conditioned to \
+                         solve; geoslip takes at most {MAX_POISSONS_RATIO} (an undrained analysis is usually run at \
+                         0.495)",
+                        2.0 * (1.0 + nu) / (3.0 * (1.0 - 2.0 * nu))
+                    ),
+                ),
+                Some(_) => {}
+                None => p.push(f("poissons_ratio"), &entity, "is required"),
+            }
         }
         if !(m.unit_weight.is_finite() && m.unit_weight >= 0.0) {
             p.push(f("unit_weight"), &entity, format!("must be zero or positive, found {}", m.unit_weight));
@@ -45,7 +82,7 @@ pub(super) fn materials(d: &mut Draft, file: &ModelFile, p: &mut Problems) {
                 p.push(f("k0"), &entity, format!("must be a positive number, found {k0}"));
             }
         }
-        let plastic = m.model == SoilModel::MohrCoulomb;
+        let plastic = m.model != SoilModel::LinearElastic;
         if plastic {
             if !(m.cohesion.is_finite() && m.cohesion >= 0.0) {
                 p.push(f("cohesion"), &entity, format!("must be zero or positive, found {}", m.cohesion));
@@ -53,7 +90,7 @@ pub(super) fn materials(d: &mut Draft, file: &ModelFile, p: &mut Problems) {
             if !(m.friction_angle.is_finite() && (0.0..90.0).contains(&m.friction_angle)) {
                 p.push(f("friction_angle"), &entity, format!("must be in [0, 90) degrees, found {}", m.friction_angle));
             } else if m.cohesion == 0.0 && m.friction_angle == 0.0 {
-                p.push(f("cohesion"), &entity, "a Mohr–Coulomb soil with c = 0 and φ = 0 has no strength");
+                p.push(f("cohesion"), &entity, "a soil with c = 0 and φ = 0 has no strength");
             }
             if !(m.dilatancy_angle.is_finite() && m.dilatancy_angle >= 0.0 && m.dilatancy_angle <= m.friction_angle) {
                 p.push(
@@ -64,6 +101,9 @@ pub(super) fn materials(d: &mut Draft, file: &ModelFile, p: &mut Problems) {
                         m.friction_angle, m.dilatancy_angle
                     ),
                 );
+            }
+            if m.model == SoilModel::DuncanChang && m.tensile_strength.is_some() {
+                p.push(f("tensile_strength"), &entity, "a Duncan–Chang soil's tension limit is the apex c·cot φ");
             }
             if let Some(t) = m.tensile_strength {
                 if !(t.is_finite() && t >= 0.0) {
@@ -78,7 +118,11 @@ pub(super) fn materials(d: &mut Draft, file: &ModelFile, p: &mut Problems) {
                 ("tensile_strength", m.tensile_strength.is_some()),
             ] {
                 if given {
-                    p.push(f(field), &entity, "is a strength parameter: set model = \"mohr-coulomb\" to use it");
+                    p.push(
+                        f(field),
+                        &entity,
+                        "is a strength parameter: set model = \"mohr-coulomb\" or \"duncan-chang\" to use it",
+                    );
                 }
             }
         }
@@ -98,6 +142,31 @@ pub(super) fn materials(d: &mut Draft, file: &ModelFile, p: &mut Problems) {
     }
     d.soil_index = d.soils.iter().enumerate().map(|(i, (n, _))| (n.clone(), i)).collect();
     d.reinf_index = d.reinforcements.iter().enumerate().map(|(i, (n, _))| (n.clone(), i)).collect();
+}
+
+/// A Duncan–Chang soil's stiffness parameters, each within the range the method's tables span
+/// (Duncan et al. 1980).
+fn hyperbolic(h: &HyperbolicParameters, field: &str, entity: &str, p: &mut Problems) {
+    let mut check = |name: &str, v: f64, ok: bool, range: &str| {
+        if !(v.is_finite() && ok) {
+            p.push(format!("{field}.{name}"), entity, format!("must be {range}, found {v}"));
+        }
+    };
+    check("K", h.modulus_number, h.modulus_number > 0.0, "a positive number");
+    check("n", h.n, (0.0..=2.0).contains(&h.n), "in [0, 2]");
+    check("Rf", h.failure_ratio, h.failure_ratio > 0.0 && h.failure_ratio < 1.0, "in (0, 1)");
+    check("Kb", h.bulk_modulus_number, h.bulk_modulus_number > 0.0, "a positive number");
+    check("m", h.m, (0.0..=2.0).contains(&h.m), "in [0, 2]");
+    check(
+        "Kur",
+        h.unloading_modulus_number,
+        h.unloading_modulus_number >= h.modulus_number,
+        &format!("at least K = {} (unloading is stiffer than loading)", h.modulus_number),
+    );
+    check("delta_phi", h.delta_phi, (0.0..30.0).contains(&h.delta_phi), "in [0, 30) degrees");
+    if let Some(pa) = h.pa {
+        check("pa", pa, pa > 0.0, "a positive number");
+    }
 }
 
 /// A shear law as the file gives it, checked; `None` when it has a problem.

@@ -1,0 +1,478 @@
+//! Duncan–Chang hyperbolic soil in the E–B form of Duncan, Byrne, Wong & Mabry (1980): a stress-
+//! dependent elasticity whose tangent moduli follow the hyperbola of a drained triaxial test, with
+//! a stiffer unloading–reloading modulus and the Mohr–Coulomb strength as its limit.
+//!
+//! Compression positive in the formulas (σ1 the major, σ3 the minor principal stress, of the three;
+//! the code keeps tension positive and turns signs where it reads them):
+//!
+//! ```text
+//! Ei  = K·pa·(σ3/pa)^n                   initial tangent modulus (Janbu 1963)
+//! Eur = Kur·pa·(σ3/pa)^n                 unloading–reloading modulus
+//! φ   = φ0 − Δφ·log10(σ3/pa)
+//! (σ1 − σ3)f = (2c·cos φ + 2σ3·sin φ)/(1 − sin φ)
+//! SL  = (σ1 − σ3)/(σ1 − σ3)f             stress level, at most 1
+//! Et  = (1 − Rf·SL)²·Ei                  tangent modulus in primary loading
+//! B   = Kb·pa·(σ3/pa)^m,  E/3 ≤ B ≤ 17·E (0 ≤ ν ≤ 0.49)
+//! ```
+//!
+//! Under constant σ3 these moduli integrate to the hyperbola
+//! (σ1 − σ3) = ε1/(1/Ei + ε1·Rf/(σ1 − σ3)f) of Duncan & Chang (1970), up to (σ1 − σ3)f.
+//!
+//! **Loading criterion.** A point loads (Et) at the largest stress state SS = SL·(σ3/pa)^¼ it has
+//! had, and unloads or reloads (Eur) below it (the stress-state function of Duncan et al. 1980).
+//! geoslip passes from one modulus to the other over a band: E = Et at the largest state, Eur once
+//! SS has dropped by [`RELOAD_BAND`] of it, linear in SS between. The modulus is then a continuous
+//! function of the stresses, which Newton's method needs: with a sharp switch, a point whose stress
+//! state sits at its largest switches between Et and Eur from one iteration to the next, and the
+//! iteration cycles. (The band makes the first few per cent of an unloading, and the last few of a
+//! reloading, softer than Eur.)
+//!
+//! **Stress update.** The moduli change along the increment, so the strain increment is integrated
+//! in substeps by the modified Euler method with local error control (Sloan 1987, Int. J. Numer.
+//! Meth. Eng. 24, 893–911): each substep's two stress estimates (moduli at its start, and at the
+//! first estimate) differ by less than [`TOLERANCE`] of the stress, or the substep is cut. A
+//! substep that leaves the Mohr–Coulomb surface of its σ3 is returned to it by the return map of
+//! [`super::mohr_coulomb`] with that substep's elasticity: beyond the strength the soil is
+//! perfectly plastic, flowing with the dilatancy angle ψ.
+//!
+//! **The floor of σ3.** σ3 enters the moduli, φ and the strength in the stress level no smaller
+//! than [`CONFINEMENT_FLOOR`]·pa, so that a point at the ground surface or in tension keeps a
+//! stiffness. The Mohr–Coulomb limit itself uses the point's true stresses.
+
+use super::mohr_coulomb::{self, MohrCoulomb, StressUpdate, YieldState};
+use super::solid::PlaneStrain;
+
+/// The largest difference between a substep's two stress estimates, relative to the stress (or
+/// to pa, if larger).
+pub const TOLERANCE: f64 = 1e-6;
+/// The same on the strength, where both estimates are returned to the surface and the substeps
+/// follow the stress along it.
+pub const TOLERANCE_ON_STRENGTH: f64 = 1e-5;
+/// The smallest σ3, as a fraction of pa, that the moduli see.
+pub const CONFINEMENT_FLOOR: f64 = 0.01;
+/// The drop of the stress state, as a fraction of its largest value, over which the modulus
+/// passes from Et to Eur.
+pub const RELOAD_BAND: f64 = 0.01;
+/// The band is taken of a largest stress state no smaller than this (near an isotropic state).
+pub const RELOAD_BAND_FLOOR: f64 = 0.1;
+/// Substeps one update may take; past it the update takes the remainder in one substep (the
+/// error control bounds the work, never the answer's existence).
+pub const MAX_SUBSTEPS: usize = 500;
+/// The bulk modulus's bounds in units of E: ν from 0 (B = E/3) to 0.49 (B = E/(3·(1 − 0.98))).
+const BULK_MIN: f64 = 1.0 / 3.0;
+const BULK_MAX: f64 = 1.0 / (3.0 * (1.0 - 2.0 * 0.49));
+
+/// The parameters of a Duncan–Chang soil, by their usual names.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DuncanChang {
+    /// K: the modulus number.
+    pub modulus_number: f64,
+    /// n: the modulus exponent.
+    pub modulus_exponent: f64,
+    /// Rf: the failure ratio (σ1 − σ3)f/(σ1 − σ3)ult, 0 < Rf < 1.
+    pub failure_ratio: f64,
+    /// Kb: the bulk modulus number.
+    pub bulk_modulus_number: f64,
+    /// m: the bulk modulus exponent.
+    pub bulk_modulus_exponent: f64,
+    /// Kur: the unloading–reloading modulus number.
+    pub unloading_modulus_number: f64,
+    /// c [stress].
+    pub cohesion: f64,
+    /// φ0 [rad]: the friction angle at σ3 = pa.
+    pub friction_angle: f64,
+    /// Δφ [rad]: the drop of φ for a tenfold σ3.
+    pub friction_angle_drop: f64,
+    /// ψ [rad]: the dilatancy angle of flow at failure.
+    pub dilatancy_angle: f64,
+    /// pa [stress]: atmospheric pressure in the model's units.
+    pub atmospheric_pressure: f64,
+}
+
+/// One point's stress update: the stress, its tangent, the largest stress state so far, and the
+/// moduli at the end without the plastic part.
+#[derive(Debug, Clone, Copy)]
+pub struct HyperbolicUpdate {
+    pub update: StressUpdate,
+    /// The largest stress state SS the point has had, this update included.
+    pub stress_state_max: f64,
+    /// The moduli of the branch the update ended in, at its stress.
+    pub elasticity: PlaneStrain,
+}
+
+/// Principal stresses (tension positive) of (σxx, σyy, τxy, σzz): the largest and the smallest of
+/// the two in-plane values and σzz.
+fn extreme_principal(s: &[f64; 4]) -> (f64, f64) {
+    let centre = 0.5 * (s[0] + s[1]);
+    let radius = (0.25 * (s[0] - s[1]).powi(2) + s[2] * s[2]).sqrt();
+    let (a, b) = (centre + radius, centre - radius);
+    (a.max(s[3]), b.min(s[3]))
+}
+
+impl DuncanChang {
+    /// σ3 (compression positive) as the moduli see it: the minor principal stress, floored.
+    pub fn confinement(&self, stress: &[f64; 4]) -> f64 {
+        let (largest, _) = extreme_principal(stress);
+        (-largest).max(CONFINEMENT_FLOOR * self.atmospheric_pressure)
+    }
+
+    /// φ at confinement `sigma_3` (floored): φ0 − Δφ·log10(σ3/pa), within [0, 89°].
+    pub fn friction_angle_at(&self, sigma_3: f64) -> f64 {
+        let phi = self.friction_angle - self.friction_angle_drop * (sigma_3 / self.atmospheric_pressure).log10();
+        phi.clamp(0.0, 89f64.to_radians())
+    }
+
+    /// (σ1 − σ3)f at confinement `sigma_3`.
+    pub fn strength(&self, sigma_3: f64) -> f64 {
+        let (s, c) = self.friction_angle_at(sigma_3).sin_cos();
+        (2.0 * self.cohesion * c + 2.0 * sigma_3 * s) / (1.0 - s)
+    }
+
+    /// The stress level SL = (σ1 − σ3)/(σ1 − σ3)f, within [0, 1].
+    pub fn stress_level(&self, stress: &[f64; 4]) -> f64 {
+        self.stress_ratio(stress).min(1.0)
+    }
+
+    /// (σ1 − σ3)/(σ1 − σ3)f, above 1 for a stress beyond the strength.
+    fn stress_ratio(&self, stress: &[f64; 4]) -> f64 {
+        let (largest, smallest) = extreme_principal(stress);
+        let strength = self.strength(self.confinement(stress));
+        if strength > 0.0 {
+            (largest - smallest) / strength
+        } else {
+            f64::INFINITY
+        }
+    }
+
+    /// The stress state SS = SL·(σ3/pa)^¼ of the loading criterion. A trial stress beyond the
+    /// strength counts with its SL above 1, so that a step past failure counts as loading.
+    pub fn stress_state(&self, stress: &[f64; 4]) -> f64 {
+        self.stress_ratio(stress) * (self.confinement(stress) / self.atmospheric_pressure).powf(0.25)
+    }
+
+    /// Ei at confinement `sigma_3`.
+    pub fn initial_modulus(&self, sigma_3: f64) -> f64 {
+        let pa = self.atmospheric_pressure;
+        self.modulus_number * pa * (sigma_3 / pa).powf(self.modulus_exponent)
+    }
+
+    /// Eur at confinement `sigma_3`.
+    pub fn unloading_modulus(&self, sigma_3: f64) -> f64 {
+        let pa = self.atmospheric_pressure;
+        self.unloading_modulus_number * pa * (sigma_3 / pa).powf(self.modulus_exponent)
+    }
+
+    /// B at confinement `sigma_3`, before its bounds.
+    pub fn bulk_modulus(&self, sigma_3: f64) -> f64 {
+        let pa = self.atmospheric_pressure;
+        self.bulk_modulus_number * pa * (sigma_3 / pa).powf(self.bulk_modulus_exponent)
+    }
+
+    /// The tangent elasticity at `stress` for a point whose largest stress state so far is
+    /// `largest`: Et at its largest state, Eur below (1 − [`RELOAD_BAND`]) of it, and in between
+    /// linear in the stress state; B within its bounds.
+    pub fn moduli(&self, stress: &[f64; 4], largest: f64) -> PlaneStrain {
+        let sigma_3 = self.confinement(stress);
+        let primary = (1.0 - self.failure_ratio * self.stress_level(stress)).powi(2) * self.initial_modulus(sigma_3);
+        let unloading = self.unloading_modulus(sigma_3);
+        let band = RELOAD_BAND * largest.max(RELOAD_BAND_FLOOR);
+        let below = (largest - self.stress_state(stress)) / band;
+        let young = primary + (unloading - primary) * below.clamp(0.0, 1.0);
+        let bulk = self.bulk_modulus(sigma_3).clamp(BULK_MIN * young, BULK_MAX * young);
+        PlaneStrain { youngs_modulus: young, poissons_ratio: (3.0 * bulk - young) / (6.0 * bulk) }
+    }
+
+    /// The elasticity of a soil at rest under σ3 = pa, unloading: what the elastic predictor and a
+    /// model's reference element matrices use.
+    pub fn reference_elasticity(&self) -> PlaneStrain {
+        let pa = self.atmospheric_pressure;
+        self.moduli(&[-pa, -pa, 0.0, -pa], 1.0)
+    }
+
+    /// The Mohr–Coulomb limit at confinement `sigma_3`: c, φ(σ3), ψ (at most φ), and the tension
+    /// cut-off at the apex.
+    pub fn limit(&self, sigma_3: f64) -> MohrCoulomb {
+        let phi = self.friction_angle_at(sigma_3);
+        let apex = if phi > 0.0 { self.cohesion / phi.tan() } else { f64::INFINITY };
+        MohrCoulomb {
+            cohesion: self.cohesion,
+            friction_angle: phi,
+            dilatancy_angle: self.dilatancy_angle.min(phi),
+            tensile_strength: apex,
+        }
+    }
+
+    /// The law with c/F and tan φ0/F (strength reduction); ψ is kept unless it exceeds the
+    /// reduced φ0.
+    pub fn reduced(&self, factor: f64) -> DuncanChang {
+        let friction_angle = (self.friction_angle.tan() / factor).atan();
+        DuncanChang {
+            cohesion: self.cohesion / factor,
+            friction_angle,
+            dilatancy_angle: self.dilatancy_angle.min(friction_angle),
+            ..*self
+        }
+    }
+
+    /// Update the stress of one point for the strain increment `d_strain` (εxx, εyy, γxy, εzz; εzz
+    /// zero in plane strain, the hoop strain in axisymmetry) from its committed `stress`, with the
+    /// largest stress state it has had (`stress_state_max`). See the module's notes for the method.
+    pub fn update(&self, stress: [f64; 4], stress_state_max: f64, d_strain: [f64; 4]) -> HyperbolicUpdate {
+        let mut path = Path {
+            sigma: stress,
+            largest: stress_state_max.max(self.stress_state(&stress)),
+            plastic_strain: 0.0,
+            last: None,
+            substeps: 0,
+        };
+        self.integrate(&mut path, d_strain);
+        if path.substeps > 200 && std::env::var("DCDEBUG").is_ok() {
+            eprintln!(
+                "substeps {} sl {} de {:?} plastic {} s {:?}",
+                path.substeps,
+                self.stress_level(&path.sigma),
+                d_strain,
+                path.plastic_strain,
+                path.sigma
+            );
+        }
+        let elasticity = self.moduli(&path.sigma, path.largest);
+        let update = match path.last {
+            Some(returned) if returned.state.is_plastic() => {
+                StressUpdate { plastic_strain: path.plastic_strain, ..returned }
+            }
+            _ => StressUpdate {
+                stress: path.sigma,
+                tangent: elasticity.d_matrix_with_hoop(),
+                state: YieldState::Elastic,
+                plastic_strain: path.plastic_strain,
+            },
+        };
+        HyperbolicUpdate { update, stress_state_max: path.largest, elasticity }
+    }
+
+    /// Integrate the strain `d_strain` along `path` in substeps with error control, each returned
+    /// to the strength if it leaves it, the largest stress state following the stress.
+    fn integrate(&self, path: &mut Path, d_strain: [f64; 4]) {
+        let (mut done, mut size, mut rejected) = (0.0f64, 1.0f64, false);
+        while done < 1.0 {
+            path.substeps += 1;
+            let last_chance = path.substeps >= MAX_SUBSTEPS;
+            if last_chance {
+                size = 1.0 - done;
+            }
+            size = size.min(1.0 - done);
+            let sigma = path.sigma;
+            let de = d_strain.map(|e| e * size);
+            // Bogacki–Shampine 3(2): the third-order estimate is taken, the second-order one
+            // measures its error
+            let rate = |s: &[f64; 4]| -> ([f64; 4], PlaneStrain) {
+                let moduli = self.moduli(s, path.largest.max(self.stress_state(s)));
+                let ds = mohr_coulomb::trial_stress(&moduli, [0.0; 4], de);
+                (ds, moduli)
+            };
+            let at = |k: &[(f64, &[f64; 4])]| -> [f64; 4] {
+                std::array::from_fn(|i| sigma[i] + k.iter().map(|(c, d)| c * d[i]).sum::<f64>())
+            };
+            let (k1, first) = rate(&sigma);
+            let (k2, _) = rate(&at(&[(0.5, &k1)]));
+            let (k3, _) = rate(&at(&[(0.75, &k2)]));
+            let next = at(&[(2.0 / 9.0, &k1), (1.0 / 3.0, &k2), (4.0 / 9.0, &k3)]);
+            let (k4, second) = rate(&next);
+            let lower = at(&[(7.0 / 24.0, &k1), (0.25, &k2), (1.0 / 3.0, &k3), (0.125, &k4)]);
+            // the strength: a substep that leaves the surface goes back to it, with the substep's
+            // mean elasticity; its error is then that of the returned stress
+            let average = PlaneStrain {
+                youngs_modulus: 0.5 * (first.youngs_modulus + second.youngs_modulus),
+                poissons_ratio: 0.5 * (first.poissons_ratio + second.poissons_ratio),
+            };
+            let limit = self.limit(self.confinement(&sigma));
+            let returned = mohr_coulomb::update_with_hoop(&limit, &average, next, [0.0; 4]);
+            let lower = if returned.state.is_plastic() {
+                mohr_coulomb::update_with_hoop(&limit, &average, lower, [0.0; 4]).stress
+            } else {
+                lower
+            };
+            let scale = next.iter().chain(&sigma).fold(self.cohesion, |m, v| m.max(v.abs()));
+            let tolerance = if returned.state.is_plastic() { TOLERANCE_ON_STRENGTH } else { TOLERANCE };
+            let error = returned.stress.iter().zip(&lower).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()))
+                / scale.max(self.atmospheric_pressure);
+            if error > tolerance && !last_chance {
+                size *= (0.9 * (tolerance / error).cbrt()).max(0.2);
+                rejected = true;
+                continue;
+            }
+            path.plastic_strain += returned.plastic_strain;
+            path.sigma = returned.stress;
+            path.largest = path.largest.max(self.stress_state(&path.sigma));
+            path.last = Some(returned);
+            done += size;
+            // (no growth right after a rejection: the step that failed is not tried again at once)
+            let grow = if error > 0.0 { (0.9 * (tolerance / error).cbrt()).min(2.0) } else { 2.0 };
+            size *= if rejected { grow.min(1.0) } else { grow }.max(0.2);
+            rejected = false;
+        }
+    }
+}
+
+/// A stress update on its way: the stress so far, the largest stress state so far, the plastic
+/// strain, the last substep's return and the substeps taken.
+struct Path {
+    sigma: [f64; 4],
+    largest: f64,
+    plastic_strain: f64,
+    last: Option<StressUpdate>,
+    substeps: usize,
+}
+
+#[cfg(test)]
+mod tests {
+    //! Reference: the hyperbola of Duncan & Chang (1970) under constant σ3,
+    //! (σ1 − σ3) = ε1/(1/Ei + ε1·Rf/(σ1 − σ3)f), up to (σ1 − σ3)f; Δ(σ1 − σ3) = Eur·Δε1 on
+    //! unloading; and Δεv = Δ(σ1 − σ3)/(3B) (docs/verification.md §11). One point
+    //! of an axisymmetric body driven like a triaxial sample: εz given, εr = εθ found so that
+    //! σr = σθ = −σ3.
+    use super::*;
+
+    fn sand(friction_angle_drop: f64) -> DuncanChang {
+        DuncanChang {
+            modulus_number: 500.0,
+            modulus_exponent: 0.5,
+            failure_ratio: 0.8,
+            bulk_modulus_number: 300.0,
+            bulk_modulus_exponent: 0.25,
+            unloading_modulus_number: 1200.0,
+            cohesion: 5.0,
+            friction_angle: 36f64.to_radians(),
+            friction_angle_drop: friction_angle_drop.to_radians(),
+            dilatancy_angle: 0.0,
+            atmospheric_pressure: 100.0,
+        }
+    }
+
+    /// A triaxial point: its stress, its largest stress state, its axial strain (compression
+    /// positive) and its radial strain (extension positive).
+    struct Sample {
+        stress: [f64; 4],
+        ss_max: f64,
+        axial: f64,
+        radial: f64,
+    }
+
+    impl Sample {
+        fn isotropic(sigma_3: f64) -> Sample {
+            Sample { stress: [-sigma_3, -sigma_3, 0.0, -sigma_3], ss_max: 0.0, axial: 0.0, radial: 0.0 }
+        }
+
+        fn deviator(&self) -> f64 {
+            self.stress[0] - self.stress[1]
+        }
+
+        /// Shorten the sample by `d_axial` (compression positive) in one update: the radial strain
+        /// by regula falsi (σr rises with it) to 1e-13 of σ3.
+        fn compress(&mut self, law: &DuncanChang, d_axial: f64) {
+            let target = self.stress[0];
+            let at = |er: f64| law.update(self.stress, self.ss_max, [er, -d_axial, 0.0, er]);
+            // regula falsi (Illinois) on [−|Δε1|, |Δε1|]
+            let residual = |er: f64| at(er).update.stress[0] - target;
+            let (mut a, mut b) = (-d_axial.abs(), d_axial.abs());
+            let (mut ra, mut rb) = (residual(a), residual(b));
+            assert!(ra < 0.0 && rb > 0.0, "the radial strain is not bracketed");
+            let mut er = 0.0;
+            for _ in 0..200 {
+                er = (a * rb - b * ra) / (rb - ra);
+                let r = residual(er);
+                if r.abs() < 1e-13 * target.abs() {
+                    break;
+                }
+                if r > 0.0 {
+                    (b, rb) = (er, r);
+                    ra *= 0.5;
+                } else {
+                    (a, ra) = (er, r);
+                    rb *= 0.5;
+                }
+            }
+            let next = at(er);
+            self.stress = next.update.stress;
+            self.ss_max = next.stress_state_max;
+            self.axial += d_axial;
+            self.radial += er;
+        }
+    }
+
+    #[test]
+    fn primary_loading_follows_the_hyperbola_at_three_confining_stresses() {
+        let law = sand(4.0);
+        let (mut worst, mut worst_volume) = (0.0f64, 0.0f64);
+        for sigma_3 in [50.0, 200.0, 800.0] {
+            let ei = law.initial_modulus(sigma_3);
+            let qf = law.strength(sigma_3);
+            let hyperbola = |e: f64| e / (1.0 / ei + e * law.failure_ratio / qf);
+            let at_failure = qf / (ei * (1.0 - law.failure_ratio));
+            let mut sample = Sample::isotropic(sigma_3);
+            let step = at_failure / 400.0;
+            for k in 1..=600 {
+                sample.compress(&law, step);
+                let expected = if sample.axial < at_failure { hyperbola(sample.axial) } else { qf };
+                let q = sample.deviator();
+                worst = worst.max((q - expected).abs() / qf);
+                assert!((q - expected).abs() < 1e-5 * qf, "σ3 {sigma_3}, step {k}: q {q} against {expected}");
+                assert!((sample.stress[0] + sigma_3).abs() < 1e-9 * sigma_3);
+                assert!((sample.stress[3] + sigma_3).abs() < 1e-9 * sigma_3);
+                if sample.axial < 0.9 * at_failure {
+                    // volume: Δεv = Δp/B with Δp = q/3 (B within its bounds here)
+                    let b = law.bulk_modulus(sigma_3);
+                    assert!(b <= BULK_MAX * law.moduli(&sample.stress, sample.ss_max).youngs_modulus);
+                    let volume = sample.axial - 2.0 * sample.radial;
+                    let expected = q / (3.0 * b);
+                    worst_volume = worst_volume.max((volume - expected).abs() / expected);
+                    assert!(
+                        (volume - expected).abs() < 3e-5 * expected,
+                        "σ3 {sigma_3}, step {k}: εv {volume} against {expected}"
+                    );
+                }
+            }
+        }
+        eprintln!(
+            "largest error of the deviator: {worst:.2e} of its strength; of the volume strain: {worst_volume:.2e}"
+        );
+    }
+
+    #[test]
+    fn unloading_and_reloading_take_eur_and_rejoin_the_hyperbola() {
+        let law = sand(0.0);
+        let sigma_3 = 200.0;
+        let (ei, qf) = (law.initial_modulus(sigma_3), law.strength(sigma_3));
+        // the strain on the hyperbola at deviator q
+        let strain_at = |q: f64| q / (ei * (1.0 - law.failure_ratio * q / qf));
+        let mut sample = Sample::isotropic(sigma_3);
+        for _ in 0..20 {
+            sample.compress(&law, 1e-4);
+        }
+        // unloading: past the band (5 % of the stress state, here of q, in the first step), at Eur
+        let eur = law.unloading_modulus(sigma_3);
+        let mut deviators = Vec::new();
+        for _ in 0..6 {
+            sample.compress(&law, -1e-4);
+            deviators.push(sample.deviator());
+        }
+        for w in deviators[1..].windows(2) {
+            let slope = (w[0] - w[1]) / 1e-4;
+            assert!((slope - eur).abs() < 1e-6 * eur, "unloading slope {slope} against Eur {eur}");
+        }
+        // reloading, past where unloading began: the hyperbola again, shifted in strain by the
+        // band's softer reloading (the same offset at every point: dq/dε depends on q alone)
+        for _ in 0..12 {
+            sample.compress(&law, 1e-4);
+        }
+        let mut offsets = Vec::new();
+        for _ in 0..10 {
+            sample.compress(&law, 1e-4);
+            offsets.push(sample.axial - strain_at(sample.deviator()));
+        }
+        let (lo, hi) = offsets.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &o| (a.min(o), b.max(o)));
+        assert!(lo > 0.0 && hi < 1e-4, "offsets {offsets:?}");
+        assert!(hi - lo < 1e-8, "the reloaded curve is not the hyperbola shifted: offsets {offsets:?}");
+    }
+}
