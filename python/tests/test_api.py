@@ -126,7 +126,8 @@ def test_a_duncan_chang_soil_from_a_dict_runs_as_the_cli(tmp_path):
     with open(out / "history.csv", newline="") as f:
         rows = list(csv.DictReader(f))
     h = run.history["grid.head (x)"]
-    assert len(rows) == len(h["reaction"]) == 61
+    # (cutbacks add steps: as many rows as the CLI's, and at least the model's 61)
+    assert len(rows) == len(h["reaction"]) >= 61
     assert_same([r["reaction [kN/m]"] for r in rows], h["reaction"], "reaction")
     assert run.completed
 
