@@ -24,16 +24,17 @@
 //! SS has dropped by [`RELOAD_BAND`] of it, linear in SS between. The modulus is then a continuous
 //! function of the stresses, which Newton's method needs: with a sharp switch, a point whose stress
 //! state sits at its largest switches between Et and Eur from one iteration to the next, and the
-//! iteration cycles. (The band makes the first few per cent of an unloading, and the last few of a
+//! iteration cycles. (The band makes the first 1 % of an unloading, and the last 1 % of a
 //! reloading, softer than Eur.)
 //!
 //! **Stress update.** The moduli change along the increment, so the strain increment is integrated
-//! in substeps by the modified Euler method with local error control (Sloan 1987, Int. J. Numer.
-//! Meth. Eng. 24, 893–911): each substep's two stress estimates (moduli at its start, and at the
-//! first estimate) differ by less than [`TOLERANCE`] of the stress, or the substep is cut. A
-//! substep that leaves the Mohr–Coulomb surface of its σ3 is returned to it by the return map of
-//! [`super::mohr_coulomb`] with that substep's elasticity: beyond the strength the soil is
-//! perfectly plastic, flowing with the dilatancy angle ψ.
+//! in substeps by the Bogacki–Shampine 3(2) pair with local error control (after Sloan 1987, Int.
+//! J. Numer. Meth. Eng. 24, 893–911): a substep whose third- and second-order estimates differ by
+//! more than [`TOLERANCE`] of the stress (or of pa, if larger) is cut. A substep that leaves the
+//! Mohr–Coulomb surface of its σ3 is returned to it by the return map of [`super::mohr_coulomb`]
+//! with that substep's mean elasticity, and its error is then measured between the two returned
+//! estimates, to [`TOLERANCE_ON_STRENGTH`]: beyond the strength the soil is perfectly plastic,
+//! flowing with the dilatancy angle ψ.
 //!
 //! **The floor of σ3.** σ3 enters the moduli, φ and the strength in the stress level no smaller
 //! than [`CONFINEMENT_FLOOR`]·pa, so that a point at the ground surface or in tension keeps a
@@ -96,7 +97,7 @@ pub struct HyperbolicUpdate {
     pub update: StressUpdate,
     /// The largest stress state SS the point has had, this update included.
     pub stress_state_max: f64,
-    /// The moduli of the branch the update ended in, at its stress.
+    /// The moduli at the updated stress, without the plastic part.
     pub elasticity: PlaneStrain,
 }
 
@@ -226,16 +227,6 @@ impl DuncanChang {
             substeps: 0,
         };
         self.integrate(&mut path, d_strain);
-        if path.substeps > 200 && std::env::var("DCDEBUG").is_ok() {
-            eprintln!(
-                "substeps {} sl {} de {:?} plastic {} s {:?}",
-                path.substeps,
-                self.stress_level(&path.sigma),
-                d_strain,
-                path.plastic_strain,
-                path.sigma
-            );
-        }
         let elasticity = self.moduli(&path.sigma, path.largest);
         let update = match path.last {
             Some(returned) if returned.state.is_plastic() => {
