@@ -52,11 +52,6 @@ impl SoilSetup {
     pub fn any_plastic(&self) -> bool {
         self.laws.iter().any(|l| l.is_some())
     }
-
-    /// Whether some law has ψ ≠ φ (an unsymmetric consistent tangent).
-    pub fn non_associated(&self) -> bool {
-        self.laws.iter().flatten().any(|l| l.non_associated())
-    }
 }
 
 fn element_points(model: &Model, e: &crate::mesh::Solid, rule: Integration) -> Vec<MappedPoint> {
@@ -545,8 +540,10 @@ fn element_results(
     coords.extend(e.nodes.iter().map(|&n| model.mesh.position(n)));
     solid::mapped_points_of_checked_into(e.kind, coords, model.integration(), model.mesh.geometry, points)
         .expect("element Jacobians were checked when the model was read");
-    let elastic = model.elasticity(s);
-    let plastic = model.soil_law(s).is_some();
+    // (a law's stress is read as committed: the elasticity is wanted for linear-elastic soil only,
+    // and neither the law nor the elasticity is built per element of every step's results)
+    let plastic = model.soil(s).model != crate::model::file::SoilModel::LinearElastic;
+    let elastic = (!plastic).then(|| model.elasticity(s));
     points
         .iter()
         .enumerate()
@@ -557,7 +554,8 @@ fn element_results(
                 point.stress
             } else {
                 let s0 = point.stress;
-                mohr_coulomb::trial_stress(&elastic, s0, eps)
+                let elastic = elastic.as_ref().expect("a linear-elastic element has its elasticity");
+                mohr_coulomb::trial_stress(elastic, s0, eps)
             };
             ElementStress {
                 element: e.id,
