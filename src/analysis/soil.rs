@@ -542,7 +542,7 @@ fn element_results(
         .expect("element Jacobians were checked when the model was read");
     // (a law's stress is read as committed: the elasticity is wanted for linear-elastic soil only,
     // and neither the law nor the elasticity is built per element of every step's results)
-    let plastic = model.soil(s).model != crate::model::file::SoilModel::LinearElastic;
+    let plastic = model.keeps_stresses(s);
     let elastic = (!plastic).then(|| model.elasticity(s));
     points
         .iter()

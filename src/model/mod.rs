@@ -351,6 +351,12 @@ impl Model {
         self.law_of(self.soil(solid))
     }
 
+    /// The soil of this element keeps its stresses (Mohr–Coulomb or Duncan–Chang): its stress is
+    /// read as committed, not from its strain.
+    pub fn keeps_stresses(&self, solid: usize) -> bool {
+        self.soil(solid).model != file::SoilModel::LinearElastic
+    }
+
     /// The law of a soil material, as [`soil_law`](Self::soil_law).
     fn law_of(&self, m: &SoilMaterial) -> Option<crate::element::soil_law::SoilLaw> {
         use crate::element::soil_law::SoilLaw;
