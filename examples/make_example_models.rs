@@ -193,6 +193,7 @@ fn paper_block() -> ModelFile {
         analysis: AnalysisSettings { reassociation: ReassociationRule::NearestNode, ..AnalysisSettings::default() },
         mesh: None,
         series: None,
+        design: None,
     }
 }
 
@@ -280,6 +281,7 @@ fn soil_nail() -> ModelFile {
         analysis: AnalysisSettings { geometry: Geometry::Axisymmetric, ..AnalysisSettings::default() },
         mesh: None,
         series: None,
+        design: None,
     }
 }
 

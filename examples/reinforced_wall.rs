@@ -27,11 +27,6 @@ use geoslip::Error;
 use std::fmt::Write as _;
 use std::path::Path;
 
-const HEIGHT: f64 = 6.0;
-const SPACING: f64 = 0.6;
-const LAYERS: usize = 10;
-const SURCHARGE: f64 = 10.0;
-
 /// Keeps the last step.
 struct Keep {
     last: Option<StepResults>,
@@ -68,18 +63,16 @@ fn run() -> Result<(), Error> {
     let seconds = run_and_write(&model, out, &Default::default(), &mut keep)?;
     let last = keep.last;
     let last = last.expect("a completed run has steps");
-    let backfill = &model.soils.iter().find(|(n, _)| n == "backfill").expect("the model has a backfill").1;
-    let (gamma, phi) = (backfill.unit_weight, backfill.friction_angle.to_radians());
-    let ka = ((std::f64::consts::FRAC_PI_4 - phi / 2.0).tan()).powi(2);
+    // the wall as the design methods see it: the model's [design] table
+    let wall = model.design.as_ref().expect("the model has a [design] table");
+    let (gamma, phi) = (wall.unit_weight, wall.friction_angle);
+    let ka = geoslip::design::simplified::active_coefficient(phi);
 
-    // Per layer: the bars and interface points of grid-k.
-    let mut layers: Vec<Layer> = (1..=LAYERS)
-        .map(|k| Layer {
-            name: format!("grid-{k}"),
-            y: SPACING * k as f64 - 0.5 * SPACING,
-            tension: Vec::new(),
-            slip: Vec::new(),
-        })
+    // Per layer (from the bottom up): the bars and interface points of grid-k.
+    let mut layers: Vec<Layer> = wall
+        .layers
+        .iter()
+        .map(|l| Layer { name: l.name.clone(), y: l.elevation, tension: Vec::new(), slip: Vec::new() })
         .collect();
     for b in &last.bar_forces {
         if let Some(l) = layers.iter_mut().find(|l| (b.midpoint[1] - l.y).abs() < 1e-6) {
@@ -98,6 +91,10 @@ fn run() -> Result<(), Error> {
         l.tension.sort_by(|a, b| a.0.total_cmp(&b.0));
         l.slip.sort_by(|a, b| a.0.total_cmp(&b.0));
     }
+    // each layer's load by the Simplified Method, as in the run's report
+    let checks = wall.checks(&|_| None);
+    let simplified_of =
+        |name: &str| checks.iter().find(|c| c.layer.name == name).map_or(f64::NAN, |c| c.simplified.max_tension);
     // The face of the blocks (x = 0), above the foundation.
     let mut face: Vec<(f64, f64, f64)> = last
         .displacements
@@ -118,8 +115,8 @@ fn run() -> Result<(), Error> {
         let (x_max, t_max) = l.tension.iter().copied().fold((0.0, f64::MIN), |m, t| if t.1 > m.1 { t } else { m });
         let at_facing = l.tension.first().map_or(0.0, |t| t.1);
         let slip = l.slip.iter().fold(0.0f64, |m, s| m.max(s.1.abs()));
-        let depth = HEIGHT - l.y;
-        let simplified = ka * (gamma * depth + SURCHARGE) * SPACING;
+        let depth = wall.crest - l.y;
+        let simplified = simplified_of(&l.name);
         let _ = writeln!(
             csv,
             "{},{:.2},{:.2},{:.3},{:.2},{:.3},{:.5},{:.3},{:.3}",
@@ -192,15 +189,17 @@ fn run() -> Result<(), Error> {
     let _ = writeln!(
         md,
         "Model `examples/reinforced-wall/reinforced-wall.toml`, built in ten 0.6 m lifts, each with its grid, then a \
-         {SURCHARGE} kPa surcharge; run in {seconds:.1} s. The run's own report is `../report.md`.\n"
+         {} kPa surcharge; run in {seconds:.1} s. The run's own report is `../report.md`, with the design checks.\n",
+        wall.surcharge
     );
     let _ = writeln!(md, "![wall](wall.png)\n");
     let _ = writeln!(md, "## Tension in each layer\n");
     let _ = writeln!(
         md,
         "Simplified method: T_max = K_a·(γz + q)·S_v with K_a = tan²(45° − φ/2) = {ka:.3} (φ = {:.0}°), γ = {gamma} kN/m³, \
-         S_v = {SPACING} m.\n",
-        phi.to_degrees()
+         S_v the tributary height of each layer ({:.2} m).\n",
+        phi.to_degrees(),
+        wall.layers[0].spacing()
     );
     let _ = writeln!(md, "| layer | height [m] | depth z [m] | T_max FE [kN/m] | at x [m] | T at facing [kN/m] | max slip [mm] | K_a(γz+q)S_v [kN/m] | FE / simplified |");
     let _ = writeln!(md, "|---|---:|---:|---:|---:|---:|---:|---:|---:|");
@@ -232,7 +231,7 @@ fn run() -> Result<(), Error> {
          foundation stage: each lift lands on the ground as it has moved, so a point's movement includes that of the \
          lifts below it at the time it was placed.\n",
         1e3 * max_out,
-        100.0 * max_out / HEIGHT,
+        100.0 * max_out / wall.height(),
         -1e3 * top
     );
     let _ = writeln!(md, "## Why the finite-element tensions are lower\n");

@@ -23,6 +23,7 @@ pub mod analysis;
 pub mod assembly;
 pub mod calibration;
 pub mod cli;
+pub mod design;
 pub mod dofs;
 pub mod element;
 pub mod error;

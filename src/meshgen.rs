@@ -353,6 +353,7 @@ impl PullOutBox {
             analysis: Default::default(),
             mesh: None,
             series: None,
+            design: None,
         }
     }
 }
@@ -422,5 +423,6 @@ pub fn block_on_rigid_base(law: ShearLawSpec, q: f64, d: f64, load_factors: Vec<
         analysis: AnalysisSettings::default(),
         mesh: None,
         series: None,
+        design: None,
     }
 }

@@ -78,6 +78,7 @@ fn gripped_strip() -> ModelFile {
         analysis: AnalysisSettings::default(),
         mesh: None,
         series: None,
+        design: None,
     }
 }
 

@@ -106,6 +106,7 @@ fn stack_in_shear() -> ModelFile {
         analysis: common::newton(1e-8),
         mesh: None,
         series: None,
+        design: None,
     }
 }
 

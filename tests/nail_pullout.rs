@@ -86,6 +86,7 @@ fn nail_in_rigid_ground(law: ShearLawSpec, stage: Stage) -> ModelFile {
         },
         mesh: None,
         series: None,
+        design: None,
     }
 }
 

@@ -71,6 +71,7 @@ fn column(kind: SolidKind, self_weight: bool) -> ModelFile {
         analysis: Default::default(),
         mesh: None,
         series: None,
+        design: None,
     }
 }
 

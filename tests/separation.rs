@@ -77,6 +77,7 @@ fn lifted_block() -> ModelFile {
         analysis: AnalysisSettings::default(),
         mesh: None,
         series: None,
+        design: None,
     }
 }
 

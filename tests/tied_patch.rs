@@ -82,6 +82,7 @@ fn stacked_blocks(kind: SolidKind, nx: usize) -> ModelFile {
         analysis: Default::default(),
         mesh: None,
         series: None,
+        design: None,
     }
 }
 

@@ -74,10 +74,14 @@ class Model:
 class Results:
     """A run's results: ``history`` (per prescribed target, its ``displacement`` and ``reaction``
     per converged step, as history.csv), ``steps`` (each converged step's fields as NumPy arrays:
-    ``nodes``, ``bars``, ``interface``, ``soil``), ``events``, ``summary`` (summary.json) and
-    ``completed``."""
+    ``nodes``, ``bars``, ``interface``, ``soil``), ``events``, ``summary`` (summary.json),
+    ``completed``, and for a model with a ``[design]`` table ``design_checks`` (per layer, from the
+    top: ``layer`` names and NumPy arrays of design-checks.csv's columns, keyed by their names
+    without units, for example ``"T_max analysis"``, ``"T_max simplified"``, ``"CDR pull-out"``;
+    docs/design-checks.md), else None."""
 
     def __init__(self, raw):
+        self.design_checks = _design_checks(raw.get("design_checks_csv"))
         self.history = raw["history"]
         self.steps = raw["steps"]
         self.factors_of_safety = raw.get("factors_of_safety", [])
@@ -122,7 +126,27 @@ class Results:
                 steps.append(_read_step_csv(_os.path.join(folder, stage_dir, step_dir)))
         raw = {"history": history, "steps": steps, "summary_json": summary,
                "completed": _json.loads(summary).get("status") == "completed"}
+        path = _os.path.join(folder, "design-checks.csv")
+        if _os.path.exists(path):
+            with open(path) as f:
+                raw["design_checks_csv"] = f.read()
         return Results(raw)
+
+
+def _design_checks(text):
+    """design-checks.csv as ``layer`` (names) and a NumPy array per column, keyed by its name
+    without the unit."""
+    if not text:
+        return None
+    reader = _csv.reader(text.splitlines())
+    header = next(reader)
+    rows = list(reader)
+    checks = {}
+    for k, name in enumerate(header):
+        key = name.split(" [")[0]
+        column = [r[k] for r in rows]
+        checks[key] = column if k == 0 else _np.array([float(v) for v in column])
+    return checks
 
 
 def _read_table(path):

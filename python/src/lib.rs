@@ -134,6 +134,10 @@ impl Model {
         let result = py.allow_threads(|| geoslip::output::write_run(model, &options, None, &mut writer, &mut observer));
         let summary = std::fs::read_to_string(folder.join("summary.json")).unwrap_or_else(|_| "{}".into());
         let results = results(py, model, &observer.steps, &targets, &summary, result.is_ok())?;
+        // a wall's design checks (docs/design-checks.md), when the model asks for them
+        if let Ok(checks) = std::fs::read_to_string(folder.join("design-checks.csv")) {
+            results.bind(py).set_item("design_checks_csv", checks)?;
+        }
         match (result, observer.stop) {
             (Ok(_), _) => Ok(results),
             (Err(_), Some(stop)) => {

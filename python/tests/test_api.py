@@ -132,6 +132,22 @@ def test_a_duncan_chang_soil_from_a_dict_runs_as_the_cli(tmp_path):
     assert run.completed
 
 
+def test_a_wall_s_design_checks_come_back_as_arrays(tmp_path):
+    # the wall of tests/fuzz-seeds/design-wall.toml from a dict, against the CLI's folder
+    # (docs/design-checks.md)
+    data = tomllib.loads((ROOT / "tests" / "fuzz-seeds" / "design-wall.toml").read_text())
+    out = tmp_path / "cli"
+    subprocess.run([cli(), "run", "-q", "--solver", "faer", "--out", str(out), str(ROOT / "tests" / "fuzz-seeds" / "design-wall.toml")], check=True)
+    run = geoslip.Model.from_dict(data, name="design-wall.json").run(solver="faer")
+    folder = geoslip.Results.open(out)
+    checks = run.design_checks
+    assert checks["layer"] == folder.design_checks["layer"] == ["grid-2", "grid-1"]
+    for key in ("depth Z", "T_max analysis", "T_max simplified", "Pr", "CDR pull-out"):
+        assert_same(folder.design_checks[key], checks[key], key)
+    assert np.all(checks["T_max analysis"] > 0) and np.all(checks["CDR pull-out"] > 1)
+    assert geoslip.Model.load(PAPER).run(solver="faer").design_checks is None
+
+
 def test_a_bad_model_raises_with_the_field_path():
     data = tomllib.loads(PAPER.read_text())
     data["materials"]["soil"]["soil"]["youngs_modulus"] = -5.0

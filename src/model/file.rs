@@ -10,6 +10,7 @@ use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
 // Types the core defines and the file format uses as they are.
+pub use crate::design::DesignParameters;
 pub use crate::dofs::Direction;
 pub use crate::element::geometry::Geometry;
 pub use crate::element::solid::SolidKind;
@@ -62,6 +63,9 @@ pub struct ModelFile {
     /// Run the model once per value of one load (a test series).
     #[serde(default)]
     pub series: Option<Series>,
+    /// Design checks of the wall the model builds, beside the analysis (`docs/design-checks.md`).
+    #[serde(default)]
+    pub design: Option<DesignParameters>,
 }
 
 /// An empty model in metres and kilonewtons, for models built in code: name the fields that
@@ -85,6 +89,7 @@ impl Default for ModelFile {
             stages: Vec::new(),
             analysis: AnalysisSettings::default(),
             series: None,
+            design: None,
         }
     }
 }

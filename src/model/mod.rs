@@ -45,6 +45,8 @@ pub struct Model {
     /// How long reading, parsing, importing the mesh and checking this model took, phase by phase
     /// (only the checks for a model made in memory).
     pub load_times: Vec<Phase>,
+    /// The wall its `[design]` table describes, for the design checks.
+    pub design: Option<crate::design::Wall>,
 }
 
 /// One run of a model file.
@@ -451,6 +453,14 @@ impl Model {
                 file::LengthUnit::Metre => 1.0,
                 file::LengthUnit::Millimetre => 1e3,
             }
+    }
+
+    /// One metre in the given units' length.
+    pub fn metre(units: &Units) -> f64 {
+        match units.length {
+            file::LengthUnit::Metre => 1.0,
+            file::LengthUnit::Millimetre => 1e3,
+        }
     }
 
     /// γw of 9.81 kN/m³ in the given units.

@@ -17,6 +17,14 @@ pub(super) struct ReinforcementProfile {
     face: &'static str,
 }
 
+impl ReinforcementProfile {
+    /// The largest tension along the reinforcement and the x of the bar that carries it (none for
+    /// a reinforcement without bars).
+    pub(super) fn largest_tension(&self) -> Option<(f64, f64)> {
+        self.tension.iter().map(|&(x, t)| (t, x)).max_by(|a, b| a.0.total_cmp(&b.0))
+    }
+}
+
 #[derive(Debug, Clone)]
 pub(super) struct StepProfile {
     pub label: String,

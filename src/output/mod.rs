@@ -16,6 +16,7 @@
 pub mod checkpoints;
 #[cfg(feature = "hdf5")]
 mod chunk_deflate;
+mod design_checks;
 mod events;
 mod figures;
 mod folder;

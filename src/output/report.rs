@@ -6,6 +6,14 @@ use super::summary::RunSummary;
 use crate::model::Model;
 use std::fmt::Write;
 
+/// The design checks of the wall a model builds, for the report.
+pub struct DesignSection<'a> {
+    pub wall: &'a crate::design::Wall,
+    pub checks: Vec<crate::design::LayerCheck>,
+    /// The figure's stem and caption.
+    pub figure: (String, String),
+}
+
 /// The Markdown report of a run (finished or failed).
 pub fn markdown(
     model: &Model,
@@ -13,10 +21,16 @@ pub fn markdown(
     history: &[HistoryRow],
     units: &crate::model::UnitLabels,
     figures: &[(String, String)],
+    design: Option<&DesignSection>,
 ) -> String {
     let mut r = String::new();
     model_section(&mut r, model, summary, units);
     key_results(&mut r, summary, history, units, figures);
+    if let Some(d) = design {
+        super::design_checks::report_section(&mut r, d.wall, &d.checks, units);
+        let (stem, caption) = &d.figure;
+        let _ = writeln!(r, "\n![{caption}]({stem}.png)\n\n*{caption}* ([SVG]({stem}.svg))");
+    }
     run_history(&mut r, summary);
     field_files(&mut r, summary);
     r

@@ -374,7 +374,16 @@ impl ResultWriter {
             self.summary.writer_thread_seconds = thread.cpu_seconds();
         }
         let figures = self.figures().write()?;
-        let report = report::markdown(model, &self.summary, &self.history, &self.units, &figures);
+        let design = match &model.design {
+            Some(wall) => {
+                let names: Vec<&str> = self.reinforcements.iter().map(|nodes| nodes.name.as_str()).collect();
+                let checks = super::design_checks::checks(wall, self.profiles.last(), &names);
+                let figure = super::design_checks::write_files(&self.folder, &checks, &self.units)?;
+                Some(report::DesignSection { wall, checks, figure })
+            }
+            None => None,
+        };
+        let report = report::markdown(model, &self.summary, &self.history, &self.units, &figures, design.as_ref());
         self.folder.write("report.md", report.as_bytes())?;
         // once more, with the time the writer took to the end
         self.summary.write_seconds += started.elapsed().as_secs_f64();

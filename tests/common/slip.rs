@@ -67,6 +67,7 @@ pub fn bar_in_rigid_soil(
         analysis: AnalysisSettings { reassociation, ..AnalysisSettings::default() },
         mesh: None,
         series: None,
+        design: None,
     }
 }
 

@@ -5,6 +5,7 @@
 //! targets, the stages, the `[analysis]` settings, and last the free bodies. Each adds what it
 //! built to the [`Draft`] and its problems to the list; the model exists only when there are none.
 
+mod design;
 mod free_bodies;
 mod interfaces;
 mod materials;
@@ -75,7 +76,7 @@ pub(super) fn validate(source: &Path, file: &ModelFile) -> Result<Model, ModelEr
     if !p.is_empty() {
         return Err(ModelError { file: source.to_path_buf(), problems: p.into_vec() });
     }
-    Ok(Model {
+    let mut model = Model {
         source: source.to_path_buf(),
         title: file.title.clone(),
         units: file.units.clone(),
@@ -91,7 +92,16 @@ pub(super) fn validate(source: &Path, file: &ModelFile) -> Result<Model, ModelEr
         analysis: file.analysis.clone(),
         mesh_source: None,
         load_times: times,
-    })
+        design: None,
+    };
+    if let Some(parameters) = &file.design {
+        let started = Instant::now();
+        let wall = design::wall(&model, parameters)
+            .map_err(|problem| ModelError { file: source.to_path_buf(), problems: vec![problem] })?;
+        model.design = Some(wall);
+        model.load_times.push(Phase::since("model: the wall of the design checks", started));
+    }
+    Ok(model)
 }
 
 /// The `[analysis]` settings.
