@@ -148,6 +148,21 @@ def test_a_wall_s_design_checks_come_back_as_arrays(tmp_path):
     assert geoslip.Model.load(PAPER).run(solver="faer").design_checks is None
 
 
+def test_a_compacted_lift_from_a_dict_runs_its_compaction_stages(tmp_path):
+    # tests/fuzz-seeds/duncan-chang-lifts.toml: a lift of Duncan–Chang soil compacted with 8 kPa
+    # (docs/soil.md, Compaction), from a dict and by the CLI
+    seed = ROOT / "tests" / "fuzz-seeds" / "duncan-chang-lifts.toml"
+    data = tomllib.loads(seed.read_text())
+    assert data["stages"][1]["compaction"] == {"pressure": 8.0, "material": "fill"}
+    out = tmp_path / "cli"
+    subprocess.run([cli(), "run", "-q", "--solver", "faer", "--out", str(out), str(seed)], check=True)
+    run = geoslip.Model.from_dict(data, name="lifts.json").run(solver="faer")
+    stages = [s["stage"] for s in run.summary["steps"]]
+    assert "lift: compaction" in stages and "lift: compaction removed" in stages
+    cli_stages = [s["stage"] for s in geoslip.Results.open(out).summary["steps"]]
+    assert stages == cli_stages and run.completed
+
+
 def test_a_bad_model_raises_with_the_field_path():
     data = tomllib.loads(PAPER.read_text())
     data["materials"]["soil"]["soil"]["youngs_modulus"] = -5.0

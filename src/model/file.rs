@@ -703,6 +703,35 @@ pub struct Stage {
     /// follow the multipliers (`false`); absent: the analysis's `freeze_normal_stress`.
     #[serde(default)]
     pub freeze_normal_stress: Option<bool>,
+    /// Compact the lift this stage places: once it is placed and its weight is on, a pressure on its
+    /// surface is applied and removed again, in two stages that follow this one (docs/soil.md,
+    /// "Compaction").
+    #[serde(default)]
+    pub compaction: Option<CompactionSpec>,
+}
+
+/// The compaction of a lift: a vertical pressure on its surface, applied then removed.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct CompactionSpec {
+    /// The compaction pressure [stress], > 0: the equivalent static pressure of the roller or plate.
+    pub pressure: f64,
+    /// The sides it acts on. Default: the lift's surface, every upward-facing side of the elements
+    /// this stage places that no element present after it covers.
+    #[serde(default)]
+    pub edge_set: Option<String>,
+    /// With the default surface: only the elements of this soil material (for example the fill
+    /// behind a facing, not the facing's blocks).
+    #[serde(default)]
+    pub material: Option<String>,
+    /// The cumulative fractions of the pressure applied, and then of it removed, step by step
+    /// (increasing, ending at 1). Default `[0.5, 1.0]`.
+    #[serde(default = "default_compaction_factors")]
+    pub load_factors: Vec<f64>,
+}
+
+fn default_compaction_factors() -> Vec<f64> {
+    vec![0.5, 1.0]
 }
 
 /// The factor of safety by strength reduction: c and tan φ are divided by F (c/F, tan φ/F) in the
@@ -777,6 +806,7 @@ impl Default for Stage {
             water: None,
             strength_reduction: None,
             freeze_normal_stress: None,
+            compaction: None,
         }
     }
 }

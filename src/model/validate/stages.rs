@@ -93,6 +93,142 @@ pub(super) fn stages(d: &mut Draft, file: &ModelFile, p: &mut Problems) {
             freeze_normal_stress: s.freeze_normal_stress,
         });
     }
+    compaction(d, file, &mut stage_names, p);
+}
+
+/// After each stage that compacts its lift, two more: one that applies the compaction pressure on
+/// the lift's surface over the compaction's load factors, one that removes it the same way.
+fn compaction(d: &mut Draft, file: &ModelFile, stage_names: &mut HashSet<String>, p: &mut Problems) {
+    if file.stages.iter().all(|s| s.compaction.is_none()) || d.stages.len() != file.stages.len() {
+        return;
+    }
+    // each element's presence after each stage, and the elements on each side (by its corners)
+    let mut present = vec![true; d.mesh.solids.len()];
+    for plan in &d.stages {
+        for &e in &plan.activate {
+            present[e] = false;
+        }
+    }
+    let mut on_side: std::collections::HashMap<(usize, usize), Vec<usize>> = std::collections::HashMap::new();
+    for (e, solid) in d.mesh.solids.iter().enumerate() {
+        for side in solid.kind.sides() {
+            let (a, b) = (solid.nodes[side[0]], solid.nodes[side[1]]);
+            on_side.entry((a.min(b), a.max(b))).or_default().push(e);
+        }
+    }
+    let plans = std::mem::take(&mut d.stages);
+    for (k, (plan, s)) in plans.into_iter().zip(&file.stages).enumerate() {
+        for &e in &plan.deactivate {
+            present[e] = false;
+        }
+        for &e in &plan.activate {
+            present[e] = true;
+        }
+        let surface = s.compaction.as_ref().and_then(|c| {
+            let at = At { field: format!("stages[{k}].compaction"), entity: format!("stage \"{}\"", s.name) };
+            compacted_sides(d, c, &plan, &present, &on_side, &at, p).map(|sides| (c, sides))
+        });
+        d.stages.push(plan);
+        let Some((c, sides)) = surface else { continue };
+        for (suffix, pressure) in [("compaction", c.pressure), ("compaction removed", -c.pressure)] {
+            let name = format!("{}: {suffix}", s.name);
+            if !stage_names.insert(name.clone()) {
+                p.push(
+                    format!("stages[{k}].compaction"),
+                    format!("stage \"{}\"", s.name),
+                    format!("adds the stage \"{name}\", but the model has a stage of that name"),
+                );
+            }
+            d.stages.push(StagePlan {
+                name,
+                load_factors: c.load_factors.clone(),
+                loads: vec![Load::EdgeTraction { sides: sides.clone(), pressure, shear: 0.0 }],
+                ..StagePlan::default()
+            });
+        }
+    }
+}
+
+/// The sides a compaction presses on: its edge set, or the upward-facing sides of the elements the
+/// stage places (of its material, if it names one) that no element present after the stage covers.
+fn compacted_sides(
+    d: &Draft,
+    c: &CompactionSpec,
+    plan: &StagePlan,
+    present: &[bool],
+    on_side: &std::collections::HashMap<(usize, usize), Vec<usize>>,
+    at: &At,
+    p: &mut Problems,
+) -> Option<Vec<crate::model::LoadedSide>> {
+    let At { field, entity } = at;
+    let problems = p.len();
+    if !(c.pressure.is_finite() && c.pressure > 0.0) {
+        p.push(format!("{field}.pressure"), entity, format!("must be a pressure > 0, found {}", c.pressure));
+    }
+    let lf = &c.load_factors;
+    if lf.is_empty()
+        || lf.len() > super::MAX_LOAD_FACTORS
+        || lf.iter().any(|f| !f.is_finite() || *f <= 0.0 || *f > 1.0 + 1e-12)
+        || lf.windows(2).any(|w| w[1] <= w[0])
+        || (lf[lf.len() - 1] - 1.0).abs() > 1e-12
+    {
+        p.push(
+            format!("{field}.load_factors"),
+            entity,
+            format!("load factors must increase within (0, 1] and end at 1.0, found {lf:?}"),
+        );
+    }
+    if plan.strength_reduction.is_some() || plan.cyclic {
+        p.push(field.as_str(), entity, "a strength-reduction stage or a stage with a history compacts nothing: compact the lift in the stage that places it");
+    }
+    let material = match &c.material {
+        Some(name) => match d.soil_index.get(name) {
+            Some(&m) => Some(m),
+            None => {
+                p.push(format!("{field}.material"), entity, format!("no soil material named \"{name}\""));
+                None
+            }
+        },
+        None => None,
+    };
+    let sides = match &c.edge_set {
+        Some(name) => match d.edge_sets.get(name) {
+            Some(sides) => sides.clone(),
+            None => {
+                p.push(format!("{field}.edge_set"), entity, format!("no edge set named \"{name}\""));
+                Vec::new()
+            }
+        },
+        None => {
+            let mut sides = Vec::new();
+            for &e in plan.activate.iter().filter(|&&e| material.is_none_or(|m| d.mesh.solids[e].material == m)) {
+                let solid = &d.mesh.solids[e];
+                for (k, side) in solid.kind.sides().iter().enumerate() {
+                    let (a, b) = (solid.nodes[side[0]], solid.nodes[side[1]]);
+                    let ([xa, ya], [xb, yb]) = (d.mesh.position(a), d.mesh.position(b));
+                    // the solid lies to the left of a → b: its outward normal is (dy, −dx)
+                    let upward = -(xb - xa) >= 0.5 * (xb - xa).hypot(yb - ya);
+                    let covered = on_side[&(a.min(b), a.max(b))].iter().any(|&other| other != e && present[other]);
+                    if upward && !covered {
+                        sides.push(crate::model::LoadedSide { solid: e, side: k });
+                    }
+                }
+            }
+            sides
+        }
+    };
+    if p.len() > problems {
+        return None;
+    }
+    if sides.is_empty() {
+        p.push(
+            field.as_str(),
+            entity,
+            "finds no surface to press on: the stage places no soil with an upward-facing free side (give an edge_set)",
+        );
+        return None;
+    }
+    Some(sides)
 }
 
 /// The stage's loads.
