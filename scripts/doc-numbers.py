@@ -26,13 +26,14 @@ the documents state, so "disagree" means beyond those digits.
   --keep DIR      run into DIR (kept) instead of a temporary folder
   --list          print every number the runs give, by ID
 
-The runs (about a minute with a release build):
+The runs (about two minutes with a release build):
   clay-segment, clay-nearest-node, clay-mortar
       examples/paper-pullout-clay.toml with each re-association rule (docs/reassociation.md)
   lab-series
       examples/lab-pullout/lab-pullout.toml: three airbag pressures, meshed by Gmsh (README)
   wall
-      examples/reinforced-wall/reinforced-wall.toml (README, docs/soil.md)
+      examples/reinforced-wall/reinforced-wall.toml and reinforced-wall-compacted.toml (README,
+      docs/soil.md)
   results-readback
       the segment run's CSV files give what docs/results.md's h5py / meshio example prints
 """
@@ -205,11 +206,38 @@ def wall_numbers(geoslip, work):
     fe = sum(layers.values())
     ka = math.tan(math.pi / 4 - math.radians(34) / 2) ** 2
     simplified = sum(ka * (18.0 * (6.0 - (0.6 * k - 0.3)) + 10.0) * 0.6 for k in range(1, 11))
+    # the same wall with every lift compacted: each layer's T_max beside the plain run's and the
+    # Simplified Method's (design-checks.csv of both runs)
+    compacted = run(geoslip, ROOT / "examples/reinforced-wall/reinforced-wall-compacted.toml",
+                    work / "wall-compacted", "--keep", "events", "--no-restart")
+    plain_rows, compacted_rows = design_checks(out), design_checks(compacted)
+    rows = ["| layer | depth Z [m] | T_max, lifts placed [kN/m] | T_max, lifts compacted [kN/m] | change | "
+            "Simplified Method [kN/m] |", "|---|---:|---:|---:|---:|---:|"]
+    for p, c in zip(plain_rows, compacted_rows):
+        t_p, t_c = float(p["T_max analysis"]), float(c["T_max analysis"])
+        # (one decimal of the change: MUMPS's ordering differs from one run to the next, and with it
+        # the last digits)
+        change = f"{100 * (t_c - t_p) / t_p:+.1f} %".replace("-", "−")
+        rows.append(f"| {p['layer']} | {float(p['depth Z']):.1f} | {t_p:.2f} | {t_c:.2f} | {change} | "
+                    f"{float(p['T_max simplified']):.2f} |")
+    sum_p = sum(float(r["T_max analysis"]) for r in plain_rows)
+    sum_c = sum(float(r["T_max analysis"]) for r in compacted_rows)
     return {
         "wall.sum-t-max": f"{fe:.1f} kN/m",
         "wall.simplified": f"{simplified:.1f}",
         "wall.fraction": f"{100 * fe / simplified:.0f} %",
+        "wall.compaction": "\n".join(rows) + "\n",
+        "wall.compaction-sum": f"{sum_c:.1f} kN/m against {sum_p:.1f} kN/m ({100 * (sum_c - sum_p) / sum_p:+.0f} %)",
     }
+
+
+def design_checks(out):
+    """The rows of a run's design-checks.csv, from the top layer down, keyed by column name
+    without its unit."""
+    with open(out / "design-checks.csv", newline="") as f:
+        rows = list(csv.reader(f))
+    keys = [h.split(" [")[0] for h in rows[0]]
+    return [dict(zip(keys, r)) for r in rows[1:]]
 
 
 def main():
