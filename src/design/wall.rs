@@ -122,13 +122,15 @@ impl Wall {
             ("pullout_factor", parameters.pullout_factor, 10.0),
             ("scale_correction", parameters.scale_correction, 1.0),
             ("coverage_ratio", parameters.coverage_ratio, 1.0),
-            ("transverse_bar_thickness", parameters.transverse_bar_thickness, f64::MAX),
-            ("transverse_bar_spacing", parameters.transverse_bar_spacing, f64::MAX),
+            ("transverse_bar_thickness", parameters.transverse_bar_thickness, f64::INFINITY),
+            ("transverse_bar_spacing", parameters.transverse_bar_spacing, f64::INFINITY),
         ];
         for (field, value, high) in ranges {
             if let Some(v) = value {
-                if !(v > 0.0 && v <= high) {
-                    return Err(problem(field, None, format!("is {v}; it must be > 0 and ≤ {high}")));
+                if !(v.is_finite() && v > 0.0 && v <= high) {
+                    let range =
+                        if high.is_finite() { format!("> 0 and ≤ {high}") } else { "a finite number > 0".into() };
+                    return Err(problem(field, None, format!("is {v}; it must be {range}")));
                 }
             }
         }
