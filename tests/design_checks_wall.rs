@@ -104,3 +104,19 @@ fn a_design_table_that_does_not_fit_the_model_is_named() {
         assert!(err.contains(field) && err.contains(message), "{err}");
     }
 }
+
+#[test]
+fn check_prints_the_wall_as_read() {
+    let seed = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fuzz-seeds/design-wall.toml");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_geoslip")).arg("check").arg(&seed).output().unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{text}");
+    assert!(
+        text.contains("design checks: a geogrid wall of `fill`, H = 1.5000")
+            && text.contains("surcharge 10 (from the model's edge tractions on the crest)")
+            && text.contains(
+                "grid-2 (Z = 0.5000, Svt = 0.7500, L = 2.0000), grid-1 (Z = 1.0000, Svt = 0.7500, L = 2.0000)"
+            ),
+        "{text}"
+    );
+}

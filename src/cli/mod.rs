@@ -421,6 +421,27 @@ fn check(model: &std::path::Path, mesh: bool, load: LoadOptions) -> ExitCode {
             for note in &m.notes {
                 println!("note: {note}");
             }
+            if let Some(wall) = &m.design {
+                // what the design checks read from the model, to be seen before the run
+                let layers: Vec<String> = wall
+                    .layers
+                    .iter()
+                    .rev()
+                    .map(|l| format!("{} (Z = {:.4}, Svt = {:.4}, L = {:.4})", l.name, l.depth, l.spacing(), l.length))
+                    .collect();
+                println!(
+                    "design checks: a {} wall of `{}`, H = {:.4} from y = {} to {}, face at x = {}, surcharge {} (from {}); layers from the top: {}",
+                    wall.reinforcement().name(),
+                    wall.parameters.reinforced_soil,
+                    wall.height(),
+                    wall.base,
+                    wall.crest,
+                    wall.face_x,
+                    wall.surcharge,
+                    wall.surcharge_source,
+                    layers.join(", ")
+                );
+            }
             ExitCode::SUCCESS
         }
         Err(e) => {
