@@ -98,6 +98,11 @@ fn a_design_table_that_does_not_fit_the_model_is_named() {
             "design.scale_correction",
             "is 1.5",
         ),
+        (
+            "reinforced_soil = \"fill\"\nreinforcement = \"geogrid\"\n\n[analysis]\ngeometry = \"axisymmetric\"",
+            "design",
+            "this model is axisymmetric",
+        ),
     ];
     for (table, field, message) in cases {
         let err = load(&wall_model(Some(table))).err().expect("refused").to_string();

@@ -314,3 +314,80 @@ impl Wall {
             .collect()
     }
 }
+
+#[cfg(test)]
+mod tests {
+    //! Reference: a wall whose geometry is known by construction, facing left and mirrored to face
+    //! right: H = 3 m, layers at y = 0.5, 1.5 and 2.5 m running 2.0, 2.5 and 3.0 m behind the face
+    //! (and an interface outside the fill, which is not a layer), a 12 kPa edge traction on the
+    //! crest and one below it.
+    use super::*;
+
+    fn inputs(mirror: bool) -> WallInputs {
+        let x = |x: f64| if mirror { 10.0 - x } else { x };
+        let mut fill_points = Vec::new();
+        for i in 0..=8 {
+            for j in 0..=6 {
+                fill_points.push([x(1.0 + 0.5 * i as f64), 0.5 * j as f64]);
+            }
+        }
+        let layer = |y: f64, length: f64| (0..=4).map(|k| [x(1.0 + length * k as f64 / 4.0), y]).collect();
+        WallInputs {
+            unit_weight: 18.0,
+            friction_angle_degrees: 30.0,
+            fill_points,
+            reinforcements: vec![
+                ("grid-b".into(), layer(0.5, 2.0)),
+                ("grid-t".into(), layer(2.5, 3.0)),
+                ("grid-m".into(), layer(1.5, 2.5)),
+                ("liner".into(), vec![[x(1.0), -1.0], [x(5.0), -1.0]]),
+            ],
+            edge_tractions: vec![(12.0, vec![3.0, 3.0, 3.0]), (5.0, vec![3.0, 2.5])],
+            metre: 1.0,
+        }
+    }
+
+    fn parameters(face: WallFace) -> DesignParameters {
+        DesignParameters {
+            reinforced_soil: "fill".into(),
+            reinforcement: ReinforcementKind::Geogrid,
+            face,
+            pullout_factor: None,
+            transverse_bar_thickness: None,
+            transverse_bar_spacing: None,
+            scale_correction: None,
+            coverage_ratio: None,
+            surcharge: None,
+        }
+    }
+
+    #[test]
+    fn a_wall_facing_either_way_has_the_same_layers() {
+        for (face, mirror, face_x) in [(WallFace::Left, false, 1.0), (WallFace::Right, true, 9.0)] {
+            let wall = Wall::new(&parameters(face), &inputs(mirror)).unwrap();
+            assert!((wall.height() - 3.0).abs() < 1e-12 && (wall.face_x - face_x).abs() < 1e-12, "{wall:?}");
+            assert!((wall.surcharge - 12.0).abs() < 1e-12, "only the traction on the crest: {}", wall.surcharge);
+            let got: Vec<(&str, f64, f64, f64, f64)> =
+                wall.layers.iter().map(|l| (l.name.as_str(), l.depth, l.zone_top, l.zone_bottom, l.length)).collect();
+            let expected =
+                [("grid-b", 2.5, 2.0, 3.0, 2.0), ("grid-m", 1.5, 1.0, 2.0, 2.5), ("grid-t", 0.5, 0.0, 1.0, 3.0)];
+            assert_eq!(got.len(), 3, "{got:?}");
+            for (g, e) in got.iter().zip(expected) {
+                assert!(
+                    g.0 == e.0 && [g.1 - e.1, g.2 - e.2, g.3 - e.3, g.4 - e.4].iter().all(|d| d.abs() < 1e-12),
+                    "{face:?}: {g:?} against {e:?}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn a_layer_that_is_not_horizontal_is_named() {
+        let mut inputs = inputs(false);
+        inputs.reinforcements[1].1[4][1] = 2.6;
+        let problem = Wall::new(&parameters(WallFace::Left), &inputs).unwrap_err();
+        assert!(
+            problem.entity.as_deref() == Some("interface \"grid-t\"") && problem.message.contains("not horizontal")
+        );
+    }
+}

@@ -15,6 +15,13 @@ pub(super) fn wall(model: &Model, parameters: &DesignParameters) -> Result<Wall,
         });
     };
     let mesh = &model.mesh;
+    if mesh.geometry.is_axisymmetric() {
+        return Err(Problem {
+            field: "design".into(),
+            entity: None,
+            message: "the design methods are for plane-strain walls; this model is axisymmetric".into(),
+        });
+    }
     let soil = &model.soils[fill].1;
     let fill_points = mesh
         .solids
