@@ -102,10 +102,11 @@ def sigma_n(out, step):
     return statistics.fmean(values), statistics.pstdev(values), min(values), max(values)
 
 
-def percent(a, b):
+def percent(a, b, digits=2):
     d = 100 * (a - b) / b
-    text = f"{d:+.2f} %".replace("-", "−")
-    return "0.00 %" if text in ("+0.00 %", "−0.00 %") else text
+    text = f"{d:+.{digits}f} %".replace("-", "−")
+    zero = f"{0:.{digits}f} %"
+    return zero if text in ("+" + zero, "−" + zero) else text
 
 
 def clay_numbers(geoslip, work):
@@ -217,8 +218,7 @@ def wall_numbers(geoslip, work):
         t_p, t_c = float(p["T_max analysis"]), float(c["T_max analysis"])
         # (one decimal of the change: MUMPS's ordering differs from one run to the next, and with it
         # the last digits)
-        change = f"{100 * (t_c - t_p) / t_p:+.1f} %".replace("-", "−")
-        rows.append(f"| {p['layer']} | {float(p['depth Z']):.1f} | {t_p:.2f} | {t_c:.2f} | {change} | "
+        rows.append(f"| {p['layer']} | {float(p['depth Z']):.1f} | {t_p:.2f} | {t_c:.2f} | {percent(t_c, t_p, 1)} | "
                     f"{float(p['T_max simplified']):.2f} |")
     sum_p = sum(float(r["T_max analysis"]) for r in plain_rows)
     sum_c = sum(float(r["T_max analysis"]) for r in compacted_rows)
@@ -227,7 +227,7 @@ def wall_numbers(geoslip, work):
         "wall.simplified": f"{simplified:.1f}",
         "wall.fraction": f"{100 * fe / simplified:.0f} %",
         "wall.compaction": "\n".join(rows) + "\n",
-        "wall.compaction-sum": f"{sum_c:.1f} kN/m against {sum_p:.1f} kN/m ({100 * (sum_c - sum_p) / sum_p:+.0f} %)",
+        "wall.compaction-sum": f"{sum_c:.1f} kN/m against {sum_p:.1f} kN/m ({percent(sum_c, sum_p, 0)})",
     }
 
 

@@ -542,20 +542,16 @@ fn element_results(
         .expect("element Jacobians were checked when the model was read");
     // (a law's stress is read as committed: the elasticity is wanted for linear-elastic soil only,
     // and neither the law nor the elasticity is built per element of every step's results)
-    let plastic = model.keeps_stresses(s);
-    let elastic = (!plastic).then(|| model.elasticity(s));
+    let elastic = (!model.keeps_stresses(s)).then(|| model.elasticity(s));
     points
         .iter()
         .enumerate()
         .map(|(g, p)| {
             let eps = strain(p, u_e);
             let point = state.points.get(g).copied().unwrap_or_default();
-            let stress = if plastic {
-                point.stress
-            } else {
-                let s0 = point.stress;
-                let elastic = elastic.as_ref().expect("a linear-elastic element has its elasticity");
-                mohr_coulomb::trial_stress(elastic, s0, eps)
+            let stress = match &elastic {
+                None => point.stress,
+                Some(elastic) => mohr_coulomb::trial_stress(elastic, point.stress, eps),
             };
             ElementStress {
                 element: e.id,

@@ -28,7 +28,8 @@ pub const MINIMUM_EMBEDMENT_M: f64 = 0.9;
 pub fn active_zone_width(kind: ReinforcementKind, height: f64, depth: f64, friction_angle: f64) -> f64 {
     let depth = depth.clamp(0.0, height);
     if kind.is_extensible() {
-        (height - depth) * (std::f64::consts::FRAC_PI_4 - 0.5 * friction_angle).tan()
+        // tan(45° − φ/2) = √Ka
+        (height - depth) * super::simplified::active_coefficient(friction_angle).sqrt()
     } else if depth <= 0.5 * height {
         0.3 * height
     } else {

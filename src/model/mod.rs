@@ -447,12 +447,7 @@ impl Model {
 
     /// Atmospheric pressure, 101.325 kPa, in the given units.
     pub fn atmospheric_pressure(units: &Units) -> f64 {
-        Model::default_water_weight(units) / 9.81
-            * 101.325
-            * match units.length {
-                file::LengthUnit::Metre => 1.0,
-                file::LengthUnit::Millimetre => 1e3,
-            }
+        Model::default_water_weight(units) / 9.81 * 101.325 * Model::metre(units)
     }
 
     /// One metre in the given units' length.

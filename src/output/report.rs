@@ -28,8 +28,7 @@ pub fn markdown(
     key_results(&mut r, summary, history, units, figures);
     if let Some(d) = design {
         super::design_checks::report_section(&mut r, d.wall, &d.checks, units);
-        let (stem, caption) = &d.figure;
-        let _ = writeln!(r, "\n![{caption}]({stem}.png)\n\n*{caption}* ([SVG]({stem}.svg))");
+        figure(&mut r, &d.figure.0, &d.figure.1);
     }
     run_history(&mut r, summary);
     field_files(&mut r, summary);
@@ -221,8 +220,13 @@ At F = {f:.4}: {why}."
     }
 
     for (stem, caption) in figures {
-        let _ = writeln!(r, "\n![{caption}]({stem}.png)\n\n*{caption}* ([SVG]({stem}.svg))");
+        figure(r, stem, caption);
     }
+}
+
+/// A figure written as `<stem>.png` and `.svg`, with its caption.
+fn figure(r: &mut String, stem: &str, caption: &str) {
+    let _ = writeln!(r, "\n![{caption}]({stem}.png)\n\n*{caption}* ([SVG]({stem}.svg))");
 }
 
 /// Events, warnings, the convergence history and the re-associations.

@@ -38,24 +38,9 @@ pub(super) fn stages(d: &mut Draft, file: &ModelFile, p: &mut Problems) {
             Some(Some((factors, reversals))) => (factors, reversals.clone()),
             _ => (&s.load_factors, Vec::new()),
         };
-        if from_history.is_some() {
-            // checked with the history
-        } else if lf.len() > super::MAX_LOAD_FACTORS {
-            p.push(
-                format!("{field}.load_factors"),
-                entity,
-                format!("at most {} load factors a stage, found {}", super::MAX_LOAD_FACTORS, lf.len()),
-            );
-        } else if lf.is_empty()
-            || lf.iter().any(|f| !f.is_finite() || *f <= 0.0 || *f > 1.0 + 1e-12)
-            || lf.windows(2).any(|w| w[1] <= w[0])
-            || (lf[lf.len() - 1] - 1.0).abs() > 1e-12
-        {
-            p.push(
-                format!("{field}.load_factors"),
-                entity,
-                format!("load factors must increase within (0, 1] and end at 1.0, found {lf:?}"),
-            );
+        if from_history.is_none() {
+            // (a history's factors were checked with it)
+            load_factors(lf, &format!("{field}.load_factors"), entity, p);
         }
         let loads = loads(d, s, &at, p);
         let prescribed = prescribed(d, s, &at, p);
@@ -94,6 +79,19 @@ pub(super) fn stages(d: &mut Draft, file: &ModelFile, p: &mut Problems) {
         });
     }
     compaction(d, file, &mut stage_names, p);
+}
+
+/// Load factors at `field`: at most `MAX_LOAD_FACTORS`, increasing within (0, 1], ending at 1.
+fn load_factors(lf: &[f64], field: &str, entity: &str, p: &mut Problems) {
+    if lf.len() > super::MAX_LOAD_FACTORS {
+        p.push(field, entity, format!("at most {} load factors a stage, found {}", super::MAX_LOAD_FACTORS, lf.len()));
+    } else if lf.is_empty()
+        || lf.iter().any(|f| !f.is_finite() || *f <= 0.0 || *f > 1.0 + 1e-12)
+        || lf.windows(2).any(|w| w[1] <= w[0])
+        || (lf[lf.len() - 1] - 1.0).abs() > 1e-12
+    {
+        p.push(field, entity, format!("load factors must increase within (0, 1] and end at 1.0, found {lf:?}"));
+    }
 }
 
 /// After each stage that compacts its lift, two more: one that applies the compaction pressure on
@@ -165,19 +163,7 @@ fn compacted_sides(
     if !(c.pressure.is_finite() && c.pressure > 0.0) {
         p.push(format!("{field}.pressure"), entity, format!("must be a pressure > 0, found {}", c.pressure));
     }
-    let lf = &c.load_factors;
-    if lf.is_empty()
-        || lf.len() > super::MAX_LOAD_FACTORS
-        || lf.iter().any(|f| !f.is_finite() || *f <= 0.0 || *f > 1.0 + 1e-12)
-        || lf.windows(2).any(|w| w[1] <= w[0])
-        || (lf[lf.len() - 1] - 1.0).abs() > 1e-12
-    {
-        p.push(
-            format!("{field}.load_factors"),
-            entity,
-            format!("load factors must increase within (0, 1] and end at 1.0, found {lf:?}"),
-        );
-    }
+    load_factors(&c.load_factors, &format!("{field}.load_factors"), entity, p);
     if plan.strength_reduction.is_some() || plan.cyclic {
         p.push(field.as_str(), entity, "a strength-reduction stage or a stage with a history compacts nothing: compact the lift in the stage that places it");
     }
