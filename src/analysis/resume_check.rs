@@ -143,6 +143,7 @@ fn check_soil(saved: &Checkpoint, model: &Model) -> Result<(), Misfit> {
             finite(&point.stress, &what("stress"))?;
             finite(&[point.plastic_strain], &what("plastic strain"))?;
             finite(&[point.largest_stress_state], &what("largest stress state"))?;
+            finite(&[point.shear_hardening, point.preconsolidation], &what("hardening parameters"))?;
         }
         if !e.pore.is_empty() {
             length(&e.pore, points, &what("pore pressure"))?;

@@ -370,6 +370,8 @@ pub fn set_k0(model: &Model, setup: &SoilSetup, field: &mut SoilField, u: &[f64]
                         plastic_strain: 0.0,
                         yield_state: YieldState::Elastic,
                         largest_stress_state: 0.0,
+                        shear_hardening: 0.0,
+                        preconsolidation: 0.0,
                     }
                 })
                 .collect();

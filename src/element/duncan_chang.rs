@@ -364,26 +364,8 @@ mod tests {
         fn compress(&mut self, law: &DuncanChang, d_axial: f64) {
             let target = self.stress[0];
             let at = |er: f64| law.update(self.stress, self.ss_max, [er, -d_axial, 0.0, er]);
-            // regula falsi (Illinois) on [−|Δε1|, |Δε1|]
             let residual = |er: f64| at(er).update.stress[0] - target;
-            let (mut a, mut b) = (-d_axial.abs(), d_axial.abs());
-            let (mut ra, mut rb) = (residual(a), residual(b));
-            assert!(ra < 0.0 && rb > 0.0, "the radial strain is not bracketed");
-            let mut er = 0.0;
-            for _ in 0..200 {
-                er = (a * rb - b * ra) / (rb - ra);
-                let r = residual(er);
-                if r.abs() < 1e-13 * target.abs() {
-                    break;
-                }
-                if r > 0.0 {
-                    (b, rb) = (er, r);
-                    ra *= 0.5;
-                } else {
-                    (a, ra) = (er, r);
-                    rb *= 0.5;
-                }
-            }
+            let er = crate::element::radial_strain_holding(residual, d_axial.abs(), 1e-13, target.abs());
             let next = at(er);
             self.stress = next.update.stress;
             self.ss_max = next.stress_state_max;

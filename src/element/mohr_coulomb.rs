@@ -69,10 +69,15 @@ pub enum YieldState {
     Tension,
     /// At the apex (three or more criteria meet).
     Apex,
+    /// Below the strength, on a hardening soil's shear hardening surface.
+    Hardening,
+    /// Below the strength, on a hardening soil's cap (possibly with its shear hardening surface).
+    Cap,
 }
 
 impl YieldState {
-    /// The code written to the output: 0 elastic, 1 shear, 2 shear edge, 3 tension, 4 apex.
+    /// The code written to the output: 0 elastic, 1 shear, 2 shear edge, 3 tension, 4 apex, 5
+    /// hardening, 6 cap.
     pub fn code(self) -> u8 {
         match self {
             YieldState::Elastic => 0,
@@ -80,6 +85,8 @@ impl YieldState {
             YieldState::ShearEdge => 2,
             YieldState::Tension => 3,
             YieldState::Apex => 4,
+            YieldState::Hardening => 5,
+            YieldState::Cap => 6,
         }
     }
 
@@ -91,6 +98,8 @@ impl YieldState {
             YieldState::ShearEdge => "shear-edge",
             YieldState::Tension => "tension",
             YieldState::Apex => "apex",
+            YieldState::Hardening => "hardening",
+            YieldState::Cap => "cap",
         }
     }
 

@@ -21,6 +21,11 @@ pub struct PointState {
     /// Duncan–Chang soil: the largest stress state SS = SL·(σ3/pa)^¼ the point has had (the
     /// loading criterion's memory); zero for other soils.
     pub largest_stress_state: f64,
+    /// Hardening soil: γp, where the shear hardening surface stands; zero for other soils and
+    /// before the point's first update (it then starts on the surface through its stress).
+    pub shear_hardening: f64,
+    /// Hardening soil: pp, where the cap stands; zero as `shear_hardening`.
+    pub preconsolidation: f64,
 }
 
 /// The state of one soil element.

@@ -25,7 +25,7 @@ use std::path::{Path, PathBuf};
 pub use super::folder::CHECKPOINT_FOLDER as FOLDER;
 
 /// The first bytes of a saved step: what it is and the layout's version.
-pub const MAGIC: &[u8; 16] = b"geoslip-step\0\0\0\x03";
+pub const MAGIC: &[u8; 16] = b"geoslip-step\0\0\0\x04";
 
 fn file_name(stage_index: usize, step: usize) -> String {
     format!("stage-{}-step-{step:05}.bin", stage_index + 1)

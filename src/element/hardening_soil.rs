@@ -1,0 +1,935 @@
+//! The hardening-soil model of Schanz, Vermeer & Bonnier (1999, "The hardening soil model:
+//! formulation and verification", Beyond 2000 in Computational Geotechnics, Balkema, 281–296), as
+//! PLAXIS users know it: elastic unloading and reloading at Eur, a shear hardening surface that
+//! gives the hyperbola of a drained triaxial test with E50, a cap that gives the oedometer stiffness
+//! Eoed, and the Mohr–Coulomb strength as the limit.
+//!
+//! Compression positive in the formulas, σ1 ≥ σ2 ≥ σ3 the principal stresses of the three (the code
+//! keeps tension positive and turns signs where it reads them):
+//!
+//! ```text
+//! E50 = E50ref·r^m,  Eur = Eurref·r^m,  r = (c·cos φ + σ3·sin φ)/(c·cos φ + pref·sin φ)
+//! Ei  = 2·E50/(2 − Rf),  qf = 2·(c·cos φ + σ3·sin φ)/(1 − sin φ),  qa = qf/Rf,  q = σ1 − σ3
+//! shear hardening  fs = (2/Ei)·q/(1 − q/qa) − 2q/Eur − γp,      flow: sin ψm (Rowe)
+//! cap              fc = √(q̃²/α² + p²) − pp,  q̃ = σ1 + (δ − 1)·σ2 − δ·σ3,  δ = (3 + sin φ)/(3 − sin φ)
+//!                  dpp = (pref/β)·(pp/pref)^m·dεv,c                associated
+//! failure          (σ1 − σ3) − (σ1 + σ3)·sin φ − 2c·cos φ ≤ 0,    flow with ψ
+//! ```
+//!
+//! γp = ε1ᵖ − ε2ᵖ − ε3ᵖ of the shear mechanism; under constant σ3 its flow with the elastic strain
+//! q/Eur gives the hyperbola ε1 = q/(Ei·(1 − q/qa)), whose secant at q = qf/2 is E50. The mobilised
+//! dilatancy follows Rowe's stress–dilatancy theory as Schanz et al. give it: sin ψm = (sin φm −
+//! sin φcv)/(1 − sin φm·sin φcv), sin φcv = (sin φ − sin ψ)/(1 − sin φ·sin ψ), sin φm = (σ1 − σ3)/(σ1 +
+//! σ3 + 2c·cot φ), no smaller than zero (no contraction from the shear mechanism).
+//!
+//! **α and β** are not given: they follow from K0nc and Eoedref, as in PLAXIS. On a normally
+//! consolidated oedometer path (σ2 = σ3 = K0nc·σ1, both hardening surfaces loading) the lateral strain
+//! rate is zero and dσ1/dε1 = Eoedref at σ1 = pref. With the model's own rate equations these are two
+//! linear conditions: the first gives 1/α², the second β ([`HardeningSoil::new`]).
+//!
+//! **Memory.** Both surfaces are loading surfaces of the stress history: while they load they pass
+//! through the stress, and elsewhere they stay. So γp is the largest (2/Ei)·q/(1 − q/qa) − 2q/Eur the
+//! point has had, and pp the largest √(q̃²/α² + p²): a point starts on both surfaces (normally
+//! consolidated at its initial stress, PLAXIS's default with OCR = 1 and POP = 0), and after each
+//! substep both are put through the stress if it has moved past them.
+//!
+//! **Stress update.** The rates are integrated explicitly by Heun's (modified Euler) method in
+//! substeps of equal size, each changing the stress elastically by about [`SUBSTEP`] of itself
+//! (after Sloan, Abbo & Sheng 2001, Eng. Computations 18, 121–154, without their error control).
+//! Their number x is not rounded: the update blends ⌊x⌋ and ⌊x⌋ + 1 substeps, so that it is a
+//! continuous function of the strain, as Newton's method needs (an error-controlled or rounded
+//! partition jumps as the strain changes, and its noise, about 10⁻⁸ of the stress, stops the
+//! iteration short of a tight tolerance). Where a substep carries a point onto a surface it was off,
+//! the point goes first to where it meets it, found by bisection. A stress past the Mohr–Coulomb
+//! strength is returned to it by the return map of [`super::mohr_coulomb`] with the substep's
+//! elasticity. The tangent handed to the iteration is the continuum elastoplastic one of the
+//! mechanisms that load at the end (the return map's own on the strength).
+//!
+//! **Corners.** Where two principal stresses are equal (σ2 = σ3 in triaxial compression), the
+//! gradient of a function of σ1 and σ3 is shared equally between the equal ones (Koiter's rule with
+//! equal multipliers, exact on the symmetric paths of the triaxial and oedometer tests), within
+//! [`CORNER`] of the stress: an iteration's rounding cannot then split a corner that the loading
+//! keeps.
+//!
+//! **Left out**: the small-strain stiffness of HSsmall, the tension cut-off below the apex c·cot φ
+//! (the Mohr–Coulomb apex is the limit), PLAXIS's rule that ψm is zero below ¾ of φ (the Rowe
+//! formula alone is used), and a preconsolidation given by OCR or POP (every point starts normally
+//! consolidated).
+
+use super::mohr_coulomb::{self, MohrCoulomb, StressUpdate, YieldState};
+use super::solid::PlaneStrain;
+use nalgebra::{Matrix2, Matrix4, Vector2, Vector4};
+
+/// The elastic stress change of one substep, relative to the stress (or to the whole update's
+/// elastic change, or to [`CONFINEMENT_FLOOR`]·pref, if larger): at most 501 substeps.
+pub const SUBSTEP: f64 = 0.002;
+/// The smallest r = (c·cos φ + σ3·sin φ)/(c·cos φ + pref·sin φ) that the moduli and qa see: a point at
+/// the ground surface or in tension keeps a stiffness.
+pub const CONFINEMENT_FLOOR: f64 = 0.01;
+/// A point is on a surface within this fraction of its γp or pp.
+const ON_SURFACE: f64 = 1e-9;
+/// The width of a corner, as a fraction of the stress's size: two principal stresses closer than
+/// this share their gradients.
+const CORNER: f64 = 1e-4;
+
+/// The parameters of a hardening soil, by their usual names.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HardeningParameters {
+    /// E50ref [stress]: the secant modulus at half the strength in drained triaxial compression at
+    /// σ3 = pref.
+    pub secant_modulus: f64,
+    /// Eoedref [stress]: the tangent oedometer modulus at σ1 = pref.
+    pub oedometer_modulus: f64,
+    /// Eurref [stress]: the unloading–reloading modulus at σ3 = pref.
+    pub unloading_modulus: f64,
+    /// νur: Poisson's ratio of unloading and reloading.
+    pub unloading_poissons_ratio: f64,
+    /// m: the power of the stiffness's stress dependency.
+    pub power: f64,
+    /// pref [stress].
+    pub reference_pressure: f64,
+    /// Rf = qf/qa, 0 < Rf < 1.
+    pub failure_ratio: f64,
+    /// K0nc: σ3/σ1 in normally consolidated one-dimensional compression.
+    pub k0_nc: f64,
+    /// c [stress].
+    pub cohesion: f64,
+    /// φ [rad], above zero.
+    pub friction_angle: f64,
+    /// ψ [rad], 0 ≤ ψ ≤ φ: the dilatancy at failure.
+    pub dilatancy_angle: f64,
+}
+
+/// A hardening soil: its parameters and the cap's α and β that they imply.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HardeningSoil {
+    pub parameters: HardeningParameters,
+    /// 1/α² of the cap.
+    pub cap_shape: f64,
+    /// β of the cap's hardening.
+    pub cap_hardening: f64,
+}
+
+/// Why no cap reproduces the given Eoedref and K0nc.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum CapMisfit {
+    /// Eoedref is at least the oedometer stiffness of elasticity and shear hardening alone: the
+    /// cap would have to soften nothing. `largest` is the largest Eoedref the other moduli allow.
+    OedometerTooStiff { largest: f64 },
+    /// K0nc cannot be reached by the cap's flow with these moduli (the lateral strain of the
+    /// elastic and shear parts is already too large or of the wrong sign).
+    K0Unreachable,
+    /// K0nc puts the oedometer path at or beyond the Mohr–Coulomb strength.
+    K0BeyondStrength,
+}
+
+impl std::fmt::Display for CapMisfit {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            CapMisfit::OedometerTooStiff { largest } => write!(
+                f,
+                "Eoed_ref is too stiff for E50_ref, Eur_ref and nu_ur: elasticity and shear hardening \
+                 alone give {largest:.6} in one-dimensional compression at p_ref, and the cap can only \
+                 soften it"
+            ),
+            CapMisfit::K0Unreachable => {
+                write!(f, "no cap gives K0nc with these moduli: lower K0nc, or make Eoed_ref softer against Eur_ref")
+            }
+            CapMisfit::K0BeyondStrength => {
+                write!(f, "K0nc is at or below the active state 1 − sin φ / (1 + sin φ) of the strength")
+            }
+        }
+    }
+}
+
+/// One point's update: the stress with its tangent, the hardening parameters after it, and the
+/// elasticity at the new stress.
+#[derive(Debug, Clone, Copy)]
+pub struct HardeningUpdate {
+    pub update: StressUpdate,
+    /// γp after the update.
+    pub shear_hardening: f64,
+    /// pp after the update.
+    pub preconsolidation: f64,
+    /// Eur and νur at the updated stress.
+    pub elasticity: PlaneStrain,
+}
+
+/// The principal stresses of (σxx, σyy, τxy, σzz), compression positive and sorted (σ1 ≥ σ2 ≥ σ3),
+/// with the gradient of each with respect to the tension-positive components.
+#[derive(Debug, Clone, Copy)]
+struct Principal {
+    values: [f64; 3],
+    gradients: [Vector4<f64>; 3],
+}
+
+impl Principal {
+    fn of(s: &[f64; 4]) -> Principal {
+        let centre = 0.5 * (s[0] + s[1]);
+        let half = 0.5 * (s[0] - s[1]);
+        let radius = (half * half + s[2] * s[2]).sqrt();
+        let (cos2, sin2) = if radius > 0.0 { (half / radius, s[2] / radius) } else { (1.0, 0.0) };
+        // tension positive: λ+ = centre + radius, λ− = centre − radius, λz = σzz; compression
+        // positive values are their negatives, and so are the gradients
+        let plus = Vector4::new(-0.5 - 0.5 * cos2, -0.5 + 0.5 * cos2, -sin2, 0.0);
+        let minus = Vector4::new(-0.5 + 0.5 * cos2, -0.5 - 0.5 * cos2, sin2, 0.0);
+        let zz = Vector4::new(0.0, 0.0, 0.0, -1.0);
+        let mut pairs = [(-(centre - radius), minus), (-(centre + radius), plus), (-s[3], zz)];
+        pairs.sort_by(|a, b| b.0.total_cmp(&a.0));
+        Principal { values: pairs.map(|p| p.0), gradients: pairs.map(|p| p.1) }
+    }
+
+    /// The gradient, with respect to the tension-positive components, of a function whose
+    /// derivatives by σ1, σ2, σ3 are `d`. Two principal stresses within [`CORNER`] of the stress's
+    /// size count as a corner: they share their derivatives equally (Koiter's rule with equal
+    /// multipliers), which keeps them equal under a symmetric strain.
+    fn gradient(&self, d: [f64; 3]) -> Vector4<f64> {
+        let v = self.values;
+        let scale = v.iter().fold(f64::MIN_POSITIVE, |m, x| m.max(x.abs()));
+        let corner = |a: f64, b: f64| (a - b).abs() <= CORNER * scale;
+        let mut d = d;
+        if corner(v[0], v[1]) && corner(v[1], v[2]) {
+            d = [(d[0] + d[1] + d[2]) / 3.0; 3];
+        } else if corner(v[1], v[2]) {
+            let mean = 0.5 * (d[1] + d[2]);
+            d = [d[0], mean, mean];
+        } else if corner(v[0], v[1]) {
+            let mean = 0.5 * (d[0] + d[1]);
+            d = [mean, mean, d[2]];
+        }
+        self.gradients[0] * d[0] + self.gradients[1] * d[1] + self.gradients[2] * d[2]
+    }
+}
+
+/// What a substep changes: the stress, γp, pp, the plastic strain, and which mechanisms load.
+#[derive(Debug, Clone, Copy)]
+struct Rate {
+    stress: Vector4<f64>,
+    shear_hardening: f64,
+    preconsolidation: f64,
+    plastic_strain: Vector4<f64>,
+    shear: bool,
+    cap: bool,
+}
+
+/// The mechanisms at a point: elasticity D, the shear hardening's gradient and flow, the cap's
+/// gradient (its flow too) and hardening modulus, and whether the point is on each surface.
+#[derive(Debug, Clone, Copy)]
+struct Mechanisms {
+    d: Matrix4<f64>,
+    n_shear: Vector4<f64>,
+    m_shear: Vector4<f64>,
+    n_cap: Vector4<f64>,
+    h_cap: f64,
+    on_shear: bool,
+    on_cap: bool,
+}
+
+impl Mechanisms {
+    /// The multipliers of the mechanisms `shear` and `cap` for the elastic stress rate `elastic`,
+    /// from the consistency of each loading one (shear: n·dσ = λ; cap: n·dσ = H·λ).
+    fn multipliers(&self, elastic: &Vector4<f64>, shear: bool, cap: bool) -> (f64, f64) {
+        let d = &self.d;
+        let shear_shear = self.n_shear.dot(&(d * self.m_shear)) + 1.0;
+        let cap_cap = self.n_cap.dot(&(d * self.n_cap)) + self.h_cap;
+        match (shear, cap) {
+            (true, true) => {
+                let a = Matrix2::new(
+                    shear_shear,
+                    self.n_shear.dot(&(d * self.n_cap)),
+                    self.n_cap.dot(&(d * self.m_shear)),
+                    cap_cap,
+                );
+                let b = Vector2::new(self.n_shear.dot(elastic), self.n_cap.dot(elastic));
+                a.lu().solve(&b).map_or((b[0] / shear_shear, 0.0), |x| (x[0], x[1]))
+            }
+            (true, false) => (self.n_shear.dot(elastic) / shear_shear, 0.0),
+            (false, true) => (0.0, self.n_cap.dot(elastic) / cap_cap),
+            (false, false) => (0.0, 0.0),
+        }
+    }
+}
+
+/// Which of the two hardening surfaces: on them, or allowed to load.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Surfaces {
+    shear: bool,
+    cap: bool,
+}
+
+/// The end of an integration: the point, the equivalent plastic strain on the way, where the last
+/// substep left the point, and the return map's tangent if on the strength.
+#[derive(Debug, Clone, Copy)]
+struct Integrated {
+    point: Point,
+    plastic_strain: f64,
+    state: YieldState,
+    /// The return map's tangent, where the last substep ended on the strength.
+    strength_tangent: Matrix4<f64>,
+}
+
+/// The state a substep starts from.
+#[derive(Debug, Clone, Copy)]
+struct Point {
+    stress: [f64; 4],
+    shear_hardening: f64,
+    preconsolidation: f64,
+}
+
+impl HardeningSoil {
+    /// The law of `parameters`, with α and β found from K0nc and Eoedref (see the module's notes).
+    ///
+    /// # Errors
+    /// [`CapMisfit`] when no cap reproduces them.
+    pub fn new(parameters: HardeningParameters) -> Result<HardeningSoil, CapMisfit> {
+        let mut law = HardeningSoil { parameters, cap_shape: 1.0, cap_hardening: 1.0 };
+        let p = &parameters;
+        let k = p.k0_nc;
+        let s1 = p.reference_pressure;
+        let stress = [-k * s1, -s1, 0.0, -k * s1];
+        if law.failure(&Principal::of(&stress).values) >= 0.0 {
+            return Err(CapMisfit::K0BeyondStrength);
+        }
+        // the strain rates (compression positive) of dσ = (1, K, K)·dσ1, per unit dσ1
+        let elastic = law.elasticity(&stress);
+        let (e, nu) = (elastic.youngs_modulus, elastic.poissons_ratio);
+        let axial = (1.0 - 2.0 * nu * k) / e;
+        let lateral = (k - nu * (1.0 + k)) / e;
+        // shear hardening: dγp = dfs/dσ·dσ, flow split between the two lateral directions
+        let principal = Principal::of(&stress);
+        let (fs_1, fs_3) = law.shear_function_gradient(&principal.values);
+        let d_gamma = (fs_1 + 2.0 * k * fs_3 * 0.5).max(0.0);
+        let sin_psi = law.mobilised_dilatancy(&principal.values);
+        let (shear_axial, shear_lateral) = (d_gamma * 0.5 * (1.0 - sin_psi), -d_gamma * 0.25 * (1.0 + sin_psi));
+        // the cap's share: its axial and lateral flows (per unit multiplier) must make the lateral
+        // strain zero and the axial strain 1/Eoed
+        let remaining_axial = 1.0 / p.oedometer_modulus - axial - shear_axial;
+        let remaining_lateral = -(lateral + shear_lateral);
+        if remaining_axial <= 0.0 {
+            return Err(CapMisfit::OedometerTooStiff { largest: 1.0 / (axial + shear_axial) });
+        }
+        // flow of √(q̃²/α² + p²) per unit multiplier, times its size: axial a·q̃ + p/3, lateral
+        // −a·q̃/2 + p/3 (the corner σ2 = σ3 shares q̃'s −δ and δ − 1)
+        let ratio = remaining_lateral / remaining_axial;
+        let mean = s1 * (1.0 + 2.0 * k) / 3.0;
+        let deviator = s1 * (1.0 - k);
+        if ratio <= -0.5 || ratio >= 1.0 {
+            return Err(CapMisfit::K0Unreachable);
+        }
+        let shape = (mean / 3.0) * (1.0 - ratio) / (deviator * (0.5 + ratio));
+        law.cap_shape = shape;
+        let equivalent = law.equivalent_pressure(&principal.values);
+        let flow_axial = (shape * deviator + mean / 3.0) / equivalent;
+        let multiplier = remaining_axial / flow_axial;
+        // dpp per unit dσ1 is pp/σ1 (homogeneous); multiplier·H = dpp with H = (pref/β)(pp/pref)^m·p/pp
+        let d_pp = equivalent / s1;
+        let pref = p.reference_pressure;
+        law.cap_hardening = pref * (equivalent / pref).powf(p.power) * (mean / equivalent) * multiplier / d_pp;
+        Ok(law)
+    }
+
+    /// The stiffness factor r^m at σ3 (compression positive), r floored, with dr/dσ3.
+    fn stiffness_factor(&self, sigma_3: f64) -> (f64, f64) {
+        let p = &self.parameters;
+        let (sin, cos) = p.friction_angle.sin_cos();
+        let reference = p.cohesion * cos + p.reference_pressure * sin;
+        let r = (p.cohesion * cos + sigma_3 * sin) / reference;
+        if r < CONFINEMENT_FLOOR {
+            (CONFINEMENT_FLOOR, 0.0)
+        } else {
+            (r, sin / reference)
+        }
+    }
+
+    /// Eur and νur at `stress`.
+    pub fn elasticity(&self, stress: &[f64; 4]) -> PlaneStrain {
+        let sigma_3 = Principal::of(stress).values[2];
+        let (r, _) = self.stiffness_factor(sigma_3);
+        PlaneStrain {
+            youngs_modulus: self.parameters.unloading_modulus * r.powf(self.parameters.power),
+            poissons_ratio: self.parameters.unloading_poissons_ratio,
+        }
+    }
+
+    /// Eur and νur at σ3 = pref: what a model's reference element matrices use.
+    pub fn reference_elasticity(&self) -> PlaneStrain {
+        let pref = self.parameters.reference_pressure;
+        self.elasticity(&[-pref, -pref, 0.0, -pref])
+    }
+
+    /// The shear hardening function (2/Ei)·q/(1 − q/qa) − 2q/Eur, without γp.
+    fn shear_function(&self, v: &[f64; 3]) -> f64 {
+        let (a, _, _) = self.shear_terms(v);
+        a
+    }
+
+    /// The shear hardening function and its derivatives by σ1 and σ3.
+    fn shear_function_gradient(&self, v: &[f64; 3]) -> (f64, f64) {
+        let (_, d1, d3) = self.shear_terms(v);
+        (d1, d3)
+    }
+
+    fn shear_terms(&self, v: &[f64; 3]) -> (f64, f64, f64) {
+        let p = &self.parameters;
+        let q = (v[0] - v[2]).max(0.0);
+        let (r, dr) = self.stiffness_factor(v[2]);
+        let m = p.power;
+        let stiffness = r.powf(m);
+        let d_stiffness = m * r.powf(m - 1.0) * dr;
+        let initial = 2.0 * p.secant_modulus / (2.0 - p.failure_ratio);
+        let (sin, cos) = p.friction_angle.sin_cos();
+        // qa = ultimate·r, ultimate = 2(c·cos φ + pref·sin φ)/((1 − sin φ)·Rf)
+        let ultimate = 2.0 * (p.cohesion * cos + p.reference_pressure * sin) / ((1.0 - sin) * p.failure_ratio);
+        // beyond the asymptote the function is not defined: the strength holds q below Rf·qa, and a
+        // substep's estimate past it sees the function as it is near it
+        let qa = ultimate * r;
+        let q_used = q.min(0.99 * qa);
+        let gap = qa - q_used;
+        let hyperbola = q_used * qa / gap; // q/(1 − q/qa)
+        let d_hyperbola_dq = (qa / gap).powi(2);
+        let d_hyperbola_dr = -q_used * q_used * ultimate / (gap * gap);
+        let value = 2.0 / (initial * stiffness) * hyperbola - 2.0 * q_used / (p.unloading_modulus * stiffness);
+        let d_dq = 2.0 / (initial * stiffness) * d_hyperbola_dq - 2.0 / (p.unloading_modulus * stiffness);
+        let d_dstiffness = -2.0 / (initial * stiffness * stiffness) * hyperbola
+            + 2.0 * q_used / (p.unloading_modulus * stiffness * stiffness);
+        // by σ3: through q, and through r (qa and the moduli); nothing through r where it is floored
+        let d3 = -d_dq + 2.0 / (initial * stiffness) * d_hyperbola_dr * dr + d_dstiffness * d_stiffness;
+        (value, d_dq, d3)
+    }
+
+    /// sin ψm of the shear mechanism's flow (Rowe), at least zero.
+    fn mobilised_dilatancy(&self, v: &[f64; 3]) -> f64 {
+        let p = &self.parameters;
+        if p.dilatancy_angle <= 0.0 {
+            return 0.0;
+        }
+        let (sin, cos) = p.friction_angle.sin_cos();
+        let sin_psi = p.dilatancy_angle.sin();
+        let sin_cv = (sin - sin_psi) / (1.0 - sin * sin_psi);
+        let apex = p.cohesion * cos / sin;
+        let sum = v[0] + v[2] + 2.0 * apex;
+        if sum <= 0.0 {
+            return sin_psi;
+        }
+        let sin_m = ((v[0] - v[2]) / sum).clamp(0.0, sin);
+        ((sin_m - sin_cv) / (1.0 - sin_m * sin_cv)).clamp(0.0, sin_psi)
+    }
+
+    /// √(q̃²/α² + p²).
+    fn equivalent_pressure(&self, v: &[f64; 3]) -> f64 {
+        let (q, p) = self.cap_invariants(v);
+        (self.cap_shape * q * q + p * p).sqrt()
+    }
+
+    /// q̃ and p.
+    fn cap_invariants(&self, v: &[f64; 3]) -> (f64, f64) {
+        let delta = self.delta();
+        (v[0] + (delta - 1.0) * v[1] - delta * v[2], (v[0] + v[1] + v[2]) / 3.0)
+    }
+
+    fn delta(&self) -> f64 {
+        let sin = self.parameters.friction_angle.sin();
+        (3.0 + sin) / (3.0 - sin)
+    }
+
+    /// (σ1 − σ3) − (σ1 + σ3)·sin φ − 2c·cos φ.
+    fn failure(&self, v: &[f64; 3]) -> f64 {
+        let (sin, cos) = self.parameters.friction_angle.sin_cos();
+        (v[0] - v[2]) - (v[0] + v[2]) * sin - 2.0 * self.parameters.cohesion * cos
+    }
+
+    /// The Mohr–Coulomb limit.
+    fn limit(&self) -> MohrCoulomb {
+        let p = &self.parameters;
+        let apex = p.cohesion / p.friction_angle.tan();
+        MohrCoulomb {
+            cohesion: p.cohesion,
+            friction_angle: p.friction_angle,
+            dilatancy_angle: p.dilatancy_angle,
+            tensile_strength: apex,
+        }
+    }
+
+    /// The law with c/F and tan φ/F (strength reduction); ψ is kept unless it exceeds the reduced
+    /// φ; α, β and the moduli are kept.
+    pub fn reduced(&self, factor: f64) -> HardeningSoil {
+        let p = &self.parameters;
+        let friction_angle = (p.friction_angle.tan() / factor).atan();
+        HardeningSoil {
+            parameters: HardeningParameters {
+                cohesion: p.cohesion / factor,
+                friction_angle,
+                dilatancy_angle: p.dilatancy_angle.min(friction_angle),
+                ..*p
+            },
+            ..*self
+        }
+    }
+
+    /// The point's hardening parameters as they stand at `stress`: the stored ones, or the
+    /// surfaces through the stress if it lies beyond them (a point not yet loaded starts normally
+    /// consolidated).
+    fn through(&self, stress: &[f64; 4], shear_hardening: f64, preconsolidation: f64) -> Point {
+        let v = Principal::of(stress).values;
+        let floor = CONFINEMENT_FLOOR * self.parameters.reference_pressure;
+        Point {
+            stress: *stress,
+            shear_hardening: shear_hardening.max(self.shear_function(&v)),
+            preconsolidation: preconsolidation.max(self.equivalent_pressure(&v)).max(floor),
+        }
+    }
+
+    /// The mechanisms at `point`, for a strain in the direction `d_strain`: elasticity, gradients,
+    /// flows and the cap's hardening modulus. At an isotropic stress, where q has no gradient, the
+    /// principal directions are those the stress is about to take (of the stress a little way along
+    /// the elastic rate).
+    fn mechanisms(&self, point: &Point, d_strain: &Vector4<f64>) -> Mechanisms {
+        let d = self.elasticity(&point.stress).d_matrix_with_hoop();
+        let mut principal = Principal::of(&point.stress);
+        let v = principal.values;
+        let scale = v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        let rate = d * d_strain;
+        if v[0] - v[2] <= CORNER * scale && rate.amax() > 0.0 {
+            let probe =
+                Vector4::from(point.stress) + rate * (10.0 * CORNER * scale.max(f64::MIN_POSITIVE) / rate.amax());
+            principal.gradients = Principal::of(&probe.into()).gradients;
+            let probe_values = Principal::of(&probe.into()).values;
+            principal.values = probe_values;
+        }
+        // shear hardening: n·dσ = dγp, the multiplier itself
+        let (fs_1, fs_3) = self.shear_function_gradient(&v);
+        let sin_psi = self.mobilised_dilatancy(&v);
+        // cap: n·dσ = dpp = H·λ
+        let (q, p) = self.cap_invariants(&v);
+        let size = self.equivalent_pressure(&v).max(f64::MIN_POSITIVE);
+        let delta = self.delta();
+        let a = self.cap_shape;
+        let pref = self.parameters.reference_pressure;
+        let pp = point.preconsolidation;
+        Mechanisms {
+            d,
+            n_shear: principal.gradient([fs_1, 0.0, fs_3]),
+            m_shear: principal.gradient([0.5 * (1.0 - sin_psi), 0.0, -0.5 * (1.0 + sin_psi)]),
+            n_cap: principal.gradient([
+                (a * q + p / 3.0) / size,
+                (a * q * (delta - 1.0) + p / 3.0) / size,
+                (-a * q * delta + p / 3.0) / size,
+            ]),
+            h_cap: (pref / self.cap_hardening) * (pp / pref).powf(self.parameters.power) * (p / size).max(0.0),
+            on_shear: self.shear_function(&v) >= point.shear_hardening * (1.0 - ON_SURFACE),
+            on_cap: size >= pp * (1.0 - ON_SURFACE),
+        }
+    }
+
+    /// The rate at `point` for the strain `d_strain`: the `allowed` mechanisms on their surfaces
+    /// whose multipliers are positive load, the others do not.
+    fn rate(&self, point: &Point, d_strain: &Vector4<f64>, allowed: Surfaces) -> Rate {
+        let at = self.mechanisms(point, d_strain);
+        let elastic = at.d * d_strain;
+        let mut shear = allowed.shear && at.on_shear && at.n_shear.dot(&elastic) > 0.0;
+        let mut cap = allowed.cap && at.on_cap && at.n_cap.dot(&elastic) > 0.0 && at.h_cap > 0.0;
+        let (mut l_shear, mut l_cap) = (0.0, 0.0);
+        for _ in 0..3 {
+            (l_shear, l_cap) = at.multipliers(&elastic, shear, cap);
+            if l_shear < 0.0 {
+                shear = false;
+            } else if l_cap < 0.0 {
+                cap = false;
+            } else {
+                break;
+            }
+        }
+        let (l_shear, l_cap) = (if shear { l_shear.max(0.0) } else { 0.0 }, if cap { l_cap.max(0.0) } else { 0.0 });
+        let plastic = at.m_shear * l_shear + at.n_cap * l_cap;
+        Rate {
+            stress: elastic - at.d * plastic,
+            shear_hardening: l_shear,
+            preconsolidation: at.h_cap * l_cap,
+            plastic_strain: plastic,
+            shear: l_shear > 0.0,
+            cap: l_cap > 0.0,
+        }
+    }
+
+    /// Update one point for the strain increment `d_strain` (εxx, εyy, γxy, εzz; εzz zero in plane
+    /// strain, the hoop strain in axisymmetry) from its committed `stress`, γp and pp. The tangent is
+    /// the continuum one of the mechanisms that load at the end (the return map's own on the
+    /// strength).
+    pub fn update(
+        &self,
+        stress: [f64; 4],
+        shear_hardening: f64,
+        preconsolidation: f64,
+        d_strain: [f64; 4],
+    ) -> HardeningUpdate {
+        let start = self.through(&stress, shear_hardening, preconsolidation);
+        let end = self.integrate(start, Vector4::from(d_strain));
+        let elasticity = self.elasticity(&end.point.stress);
+        let tangent = match end.state {
+            YieldState::Elastic => elasticity.d_matrix_with_hoop(),
+            YieldState::Hardening | YieldState::Cap => self.tangent(&end.point, &Vector4::from(d_strain)),
+            _ => end.strength_tangent,
+        };
+        HardeningUpdate {
+            update: StressUpdate {
+                stress: end.point.stress,
+                tangent,
+                state: end.state,
+                plastic_strain: end.plastic_strain,
+            },
+            shear_hardening: end.point.shear_hardening,
+            preconsolidation: end.point.preconsolidation,
+            elasticity,
+        }
+    }
+
+    /// The continuum elastoplastic tangent at `point` of the mechanisms that load under `d_strain`;
+    /// elasticity if none does.
+    fn tangent(&self, point: &Point, d_strain: &Vector4<f64>) -> Matrix4<f64> {
+        let rate = self.rate(point, d_strain, Surfaces { shear: true, cap: true });
+        let at = self.mechanisms(point, d_strain);
+        // column by column: the rate is linear in the strain for a fixed set of loading mechanisms
+        let mut t = Matrix4::zeros();
+        for j in 0..4 {
+            let elastic = at.d.column(j).into_owned();
+            let (l_shear, l_cap) = at.multipliers(&elastic, rate.shear, rate.cap);
+            t.set_column(j, &(elastic - at.d * (at.m_shear * l_shear + at.n_cap * l_cap)));
+        }
+        t
+    }
+
+    /// Integrate the strain `total` from `start`.
+    fn integrate(&self, start: Point, total: Vector4<f64>) -> Integrated {
+        // substeps of equal size, each changing the stress elastically by about SUBSTEP of itself
+        // (or of the whole change, if larger: at most 1/SUBSTEP of them). Their number x is not
+        // a whole number: the update is the blend of ⌊x⌋ and ⌊x⌋ + 1 substeps, so that it is a
+        // continuous function of the strain, which Newton's method needs (a whole number of
+        // substeps, or an error-controlled partition, jumps as the strain changes)
+        let pref = self.parameters.reference_pressure;
+        let elastic_change = (self.elasticity(&start.stress).d_matrix_with_hoop() * total).amax();
+        let scale = start.stress.iter().fold(CONFINEMENT_FLOOR * pref, |m, v| m.max(v.abs())).max(elastic_change);
+        let count = (elastic_change / scale / SUBSTEP).max(1.0);
+        let fewer = count.floor();
+        let share = count - fewer;
+        let coarse = self.integrate_in(start, total, fewer as usize);
+        if share == 0.0 {
+            return coarse;
+        }
+        let fine = self.integrate_in(start, total, fewer as usize + 1);
+        let blend = |a: f64, b: f64| a + share * (b - a);
+        Integrated {
+            point: Point {
+                stress: std::array::from_fn(|i| blend(coarse.point.stress[i], fine.point.stress[i])),
+                shear_hardening: blend(coarse.point.shear_hardening, fine.point.shear_hardening),
+                preconsolidation: blend(coarse.point.preconsolidation, fine.point.preconsolidation),
+            },
+            plastic_strain: blend(coarse.plastic_strain, fine.plastic_strain),
+            state: fine.state,
+            strength_tangent: coarse.strength_tangent + (fine.strength_tangent - coarse.strength_tangent) * share,
+        }
+    }
+
+    /// Integrate the strain `total` from `start` in `substeps` equal substeps.
+    fn integrate_in(&self, start: Point, total: Vector4<f64>, substeps: usize) -> Integrated {
+        let mut point = start;
+        let step = total / substeps as f64;
+        let mut plastic_strain = 0.0;
+        let mut state = YieldState::Elastic;
+        let mut strength_tangent = Matrix4::zeros();
+        for _ in 0..substeps {
+            // a substep that carries the point onto a surface it was off goes first to where it
+            // meets it (the fraction found by bisection, so to rounding: the update stays smooth in
+            // the strain), then on from there with that surface too
+            let mut de = step;
+            for event in 0..=2 {
+                let allowed = if event < 2 { self.on(&point) } else { Surfaces { shear: true, cap: true } };
+                let (mut next, mut averaged) = self.heun(&point, &de, allowed);
+                let reaches = |p: &Point| {
+                    let on = self.on(p);
+                    (on.shear && !allowed.shear) || (on.cap && !allowed.cap)
+                };
+                let whole = !reaches(&next);
+                if !whole {
+                    let (mut lo, mut hi) = (0.0f64, 1.0f64);
+                    for _ in 0..60 {
+                        let mid = 0.5 * (lo + hi);
+                        if reaches(&self.heun(&point, &(de * mid), allowed).0) {
+                            hi = mid;
+                        } else {
+                            lo = mid;
+                        }
+                    }
+                    (next, averaged) = self.heun(&point, &(de * hi), allowed);
+                    de *= 1.0 - hi;
+                }
+                plastic_strain += equivalent(&averaged.plastic_strain);
+                state = match (averaged.shear, averaged.cap) {
+                    (_, true) => YieldState::Cap,
+                    (true, false) => YieldState::Hardening,
+                    (false, false) => YieldState::Elastic,
+                };
+                // the strength: a stress past it goes back to it with the substep's elasticity
+                let returned = mohr_coulomb::update_with_hoop(
+                    &self.limit(),
+                    &self.elasticity(&point.stress),
+                    next.stress,
+                    [0.0; 4],
+                );
+                if returned.state.is_plastic() {
+                    next.stress = returned.stress;
+                    plastic_strain += returned.plastic_strain;
+                    state = returned.state;
+                    strength_tangent = returned.tangent;
+                }
+                point = self.through(&next.stress, next.shear_hardening, next.preconsolidation);
+                if whole {
+                    break;
+                }
+            }
+        }
+        Integrated { point, plastic_strain, state, strength_tangent }
+    }
+
+    /// The surfaces the stress of `point` is on (within [`ON_SURFACE`]).
+    fn on(&self, point: &Point) -> Surfaces {
+        let v = Principal::of(&point.stress).values;
+        Surfaces {
+            shear: self.shear_function(&v) >= point.shear_hardening * (1.0 - ON_SURFACE),
+            cap: self.equivalent_pressure(&v) >= point.preconsolidation * (1.0 - ON_SURFACE),
+        }
+    }
+
+    /// One step of Heun's method from `point` for the strain `de`, the `allowed` mechanisms
+    /// loading where they are on their surfaces: the point reached and the averaged rate.
+    fn heun(&self, point: &Point, de: &Vector4<f64>, allowed: Surfaces) -> (Point, Rate) {
+        let first = self.rate(point, de, allowed);
+        let middle = self.advance(point, &first);
+        let second = self.rate(&middle, de, allowed);
+        let averaged = Rate {
+            stress: (first.stress + second.stress) * 0.5,
+            shear_hardening: 0.5 * (first.shear_hardening + second.shear_hardening),
+            preconsolidation: 0.5 * (first.preconsolidation + second.preconsolidation),
+            plastic_strain: (first.plastic_strain + second.plastic_strain) * 0.5,
+            shear: first.shear || second.shear,
+            cap: first.cap || second.cap,
+        };
+        (self.advance(point, &averaged), averaged)
+    }
+
+    /// The point after `rate`: stress added, γp and pp grown, and both surfaces through the stress
+    /// if it has passed them.
+    fn advance(&self, point: &Point, rate: &Rate) -> Point {
+        let stress: [f64; 4] = std::array::from_fn(|i| point.stress[i] + rate.stress[i]);
+        let v = Principal::of(&stress).values;
+        let mut next = Point {
+            stress,
+            shear_hardening: point.shear_hardening + rate.shear_hardening,
+            preconsolidation: point.preconsolidation + rate.preconsolidation,
+        };
+        // a loading surface passes through the stress: γp and pp are those of the stress reached
+        if rate.shear {
+            next.shear_hardening = self.shear_function(&v).max(point.shear_hardening);
+        }
+        if rate.cap {
+            next.preconsolidation = self.equivalent_pressure(&v).max(point.preconsolidation);
+        }
+        next
+    }
+}
+
+/// √(2/3·εᵖ:εᵖ) of an engineering strain (εxx, εyy, γxy, εzz).
+fn equivalent(e: &Vector4<f64>) -> f64 {
+    (2.0 / 3.0 * (e[0] * e[0] + e[1] * e[1] + e[3] * e[3] + 0.5 * e[2] * e[2])).sqrt()
+}
+
+#[cfg(test)]
+mod tests {
+    //! References (docs/verification.md §14): the primary-loading hyperbola of Schanz, Vermeer &
+    //! Bonnier (1999) under constant σ3, ε1 = q/(Ei·(1 − q/qa)) with Ei = 2·E50/(2 − Rf), up to qf,
+    //! with the volume strain of elasticity alone (ψ = 0); unloading and reloading at
+    //! Eur = Eurref·(σ3/pref)^m, rejoining the hyperbola where it was left; and normally consolidated
+    //! one-dimensional compression at σ3/σ1 = K0nc with the tangent Eoed = Eoedref·(σ1/pref)^m.
+    //! One point of an axisymmetric body (x = r, y = z, zz = θ) driven like the laboratory sample.
+    use super::*;
+
+    fn sand(dilatancy: f64) -> HardeningSoil {
+        let friction_angle = 35f64.to_radians();
+        HardeningSoil::new(HardeningParameters {
+            secant_modulus: 30_000.0,
+            oedometer_modulus: 30_000.0,
+            unloading_modulus: 90_000.0,
+            unloading_poissons_ratio: 0.2,
+            power: 0.5,
+            reference_pressure: 100.0,
+            failure_ratio: 0.9,
+            k0_nc: 1.0 - friction_angle.sin(),
+            cohesion: 0.0,
+            friction_angle,
+            dilatancy_angle: dilatancy.to_radians(),
+        })
+        .expect("the cap exists")
+    }
+
+    /// A triaxial point: stress, γp, pp, axial strain (compression positive), radial strain
+    /// (extension positive).
+    struct Sample {
+        stress: [f64; 4],
+        shear_hardening: f64,
+        preconsolidation: f64,
+        axial: f64,
+        radial: f64,
+    }
+
+    impl Sample {
+        fn isotropic(sigma_3: f64, preconsolidation: f64) -> Sample {
+            Sample {
+                stress: [-sigma_3, -sigma_3, 0.0, -sigma_3],
+                shear_hardening: 0.0,
+                preconsolidation,
+                axial: 0.0,
+                radial: 0.0,
+            }
+        }
+
+        fn deviator(&self) -> f64 {
+            self.stress[0] - self.stress[1]
+        }
+
+        fn take(&mut self, next: HardeningUpdate, d_axial: f64, d_radial: f64) {
+            self.stress = next.update.stress;
+            self.shear_hardening = next.shear_hardening;
+            self.preconsolidation = next.preconsolidation;
+            self.axial += d_axial;
+            self.radial += d_radial;
+        }
+
+        /// Shorten the sample by `d_axial` at constant σr: the radial strain found to 10⁻¹² of σr.
+        fn compress(&mut self, law: &HardeningSoil, d_axial: f64) {
+            let target = self.stress[0];
+            let at =
+                |er: f64| law.update(self.stress, self.shear_hardening, self.preconsolidation, [er, -d_axial, 0.0, er]);
+            let residual = |er: f64| at(er).update.stress[0] - target;
+            let er = crate::element::radial_strain_holding(residual, 2.0 * d_axial.abs(), 1e-12, target.abs());
+            let next = at(er);
+            self.take(next, d_axial, er);
+        }
+    }
+
+    #[test]
+    fn primary_loading_follows_the_hyperbola_at_three_confining_stresses() {
+        let law = sand(0.0);
+        let p = law.parameters;
+        let (mut worst, mut worst_volume) = (0.0f64, 0.0f64);
+        for sigma_3 in [50.0, 100.0, 300.0] {
+            let factor = (sigma_3 / p.reference_pressure).powf(p.power);
+            let (e50, eur) = (p.secant_modulus * factor, p.unloading_modulus * factor);
+            let ei = 2.0 * e50 / (2.0 - p.failure_ratio);
+            let qf = 2.0 * sigma_3 * p.friction_angle.sin() / (1.0 - p.friction_angle.sin());
+            let qa = qf / p.failure_ratio;
+            let hyperbola = |q: f64| q / (ei * (1.0 - q / qa));
+            let at_failure = hyperbola(qf);
+            // a preconsolidation far above the path: the cap stays closed
+            let mut sample = Sample::isotropic(sigma_3, 20.0 * sigma_3);
+            let step = at_failure / 200.0;
+            for k in 1..=260 {
+                sample.compress(&law, step);
+                let q = sample.deviator();
+                let expected = if sample.axial < at_failure {
+                    // the deviator on the hyperbola at this strain: ε = q/(Ei(1 − q/qa)) solved for q
+                    sample.axial * ei * qa / (qa + sample.axial * ei)
+                } else {
+                    qf
+                };
+                worst = worst.max((q - expected).abs() / qf);
+                assert!((q - expected).abs() < 3e-5 * qf, "σ3 {sigma_3}, step {k}: q {q} against {expected}");
+                assert!((sample.stress[3] + sigma_3).abs() < 1e-9 * sigma_3, "σθ left σ3");
+                if sample.axial < at_failure {
+                    // the volume strain of elasticity alone: the shear flow has ψm = 0, the cap is shut
+                    let volume = sample.axial - 2.0 * sample.radial;
+                    let expected = q * (1.0 - 2.0 * p.unloading_poissons_ratio) / eur;
+                    worst_volume = worst_volume.max((volume - expected).abs() / sample.axial);
+                    assert!(
+                        (volume - expected).abs() < 2e-4 * sample.axial,
+                        "σ3 {sigma_3}, step {k}: εv {volume} against {expected}"
+                    );
+                }
+            }
+        }
+        eprintln!("largest error of the deviator: {worst:.2e} of its strength; of εv: {worst_volume:.2e} of ε1");
+    }
+
+    #[test]
+    fn unloading_and_reloading_take_eur_and_rejoin_the_hyperbola() {
+        let law = sand(0.0);
+        let p = law.parameters;
+        let sigma_3 = 100.0;
+        let factor = (sigma_3 / p.reference_pressure).powf(p.power);
+        let eur = p.unloading_modulus * factor;
+        let ei = 2.0 * p.secant_modulus * factor / (2.0 - p.failure_ratio);
+        let qf = 2.0 * sigma_3 * p.friction_angle.sin() / (1.0 - p.friction_angle.sin());
+        let qa = qf / p.failure_ratio;
+        let on_hyperbola = |e: f64| e * ei * qa / (qa + e * ei);
+        let mut sample = Sample::isotropic(sigma_3, 20.0 * sigma_3);
+        for _ in 0..20 {
+            sample.compress(&law, 1e-4);
+        }
+        let (top, top_strain) = (sample.deviator(), sample.axial);
+        // unloading at Eur, σ3 constant so Eur constant
+        let mut last = top;
+        for _ in 0..5 {
+            sample.compress(&law, -1e-4);
+            let slope = (last - sample.deviator()) / 1e-4;
+            assert!((slope - eur).abs() < 1e-6 * eur, "unloading slope {slope} against Eur {eur}");
+            last = sample.deviator();
+        }
+        // reloading at Eur up to where unloading began, then the hyperbola again (its strain
+        // shifted by nothing: the surface remembered γp)
+        for _ in 0..5 {
+            sample.compress(&law, 1e-4);
+        }
+        assert!((sample.deviator() - top).abs() < 1e-6 * top, "reloaded to {} against {top}", sample.deviator());
+        assert!((sample.axial - top_strain).abs() < 1e-12);
+        for _ in 0..10 {
+            sample.compress(&law, 1e-4);
+            let expected = on_hyperbola(sample.axial);
+            assert!(
+                (sample.deviator() - expected).abs() < 2e-5 * qf,
+                "reloaded {} against {expected}",
+                sample.deviator()
+            );
+        }
+    }
+
+    #[test]
+    fn one_dimensional_compression_gives_k0nc_and_eoed() {
+        for dilatancy in [0.0, 5.0] {
+            let law = sand(dilatancy);
+            let p = law.parameters;
+            let k = p.k0_nc;
+            // normally consolidated at σ1 = 20: on both surfaces
+            let mut stress = [-k * 20.0, -20.0, 0.0, -k * 20.0];
+            let (mut gp, mut pp) = (0.0, 0.0);
+            let step = -2e-5;
+            let mut tangents = Vec::new();
+            while -stress[1] < 420.0 {
+                let next = law.update(stress, gp, pp, [0.0, step, 0.0, 0.0]);
+                let (before, after) = (-stress[1], -next.update.stress[1]);
+                tangents.push((0.5 * (before + after), (after - before) / -step));
+                (stress, gp, pp) = (next.update.stress, next.shear_hardening, next.preconsolidation);
+                // σ3/σ1 stays K0nc
+                let ratio = stress[0] / stress[1];
+                assert!((ratio - k).abs() < 1e-5 * k, "σ3/σ1 {ratio} against K0nc {k} at σ1 {after}");
+                assert!((stress[3] - stress[0]).abs() < 1e-9 * stress[0].abs(), "σθ left σr");
+            }
+            for target in [50.0, 100.0, 200.0, 400.0] {
+                let &(mid, tangent) =
+                    tangents.iter().min_by(|a, b| (a.0 - target).abs().total_cmp(&(b.0 - target).abs())).unwrap();
+                let eoed = p.oedometer_modulus * (mid / p.reference_pressure).powf(p.power);
+                assert!(
+                    (tangent - eoed).abs() < 1e-4 * eoed,
+                    "ψ {dilatancy}: Eoed {tangent} against {eoed} at σ1 {mid}"
+                );
+            }
+        }
+    }
+}
