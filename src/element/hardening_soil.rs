@@ -45,11 +45,12 @@
 //! elasticity. The tangent handed to the iteration is the continuum elastoplastic one of the
 //! mechanisms that load at the end (the return map's own on the strength).
 //!
-//! **Corners.** Where two principal stresses are equal (σ2 = σ3 in triaxial compression), the
-//! gradient of a function of σ1 and σ3 is shared equally between the equal ones (Koiter's rule with
-//! equal multipliers, exact on the symmetric paths of the triaxial and oedometer tests), within
-//! [`CORNER`] of the stress: an iteration's rounding cannot then split a corner that the loading
-//! keeps.
+//! **Corners.** Where two principal stresses are equal (σ2 = σ3 in triaxial compression, σ1 = σ2 in
+//! extension), both orders of the two are yield surfaces: two shear hardening surfaces sharing γp
+//! and two caps sharing pp, each loading with its own multiplier (Koiter's rule). Under a strain
+//! that keeps the corner both load and the two stresses stay equal, so an iteration's rounding
+//! cannot split a corner that the loading keeps. Within [`CORNER`] of the stress's size two
+//! principal stresses count as a corner.
 //!
 //! **Left out**: the small-strain stiffness of HSsmall, the tension cut-off below the apex c·cot φ
 //! (the Mohr–Coulomb apex is the limit), PLAXIS's rule that ψm is zero below ¾ of φ (the Rowe
@@ -58,7 +59,7 @@
 
 use super::mohr_coulomb::{self, MohrCoulomb, StressUpdate, YieldState};
 use super::solid::PlaneStrain;
-use nalgebra::{Matrix2, Matrix4, Vector2, Vector4};
+use nalgebra::{Matrix4, Vector4};
 
 /// The elastic stress change of one substep, relative to the stress (or to the whole update's
 /// elastic change, or to [`CONFINEMENT_FLOOR`]·pref, if larger): at most 501 substeps.
@@ -69,7 +70,7 @@ pub const CONFINEMENT_FLOOR: f64 = 0.01;
 /// A point is on a surface within this fraction of its γp or pp.
 const ON_SURFACE: f64 = 1e-9;
 /// The width of a corner, as a fraction of the stress's size: two principal stresses closer than
-/// this share their gradients.
+/// this are a corner, where both of their orders are yield surfaces.
 const CORNER: f64 = 1e-4;
 
 /// The parameters of a hardening soil, by their usual names.
@@ -180,24 +181,16 @@ impl Principal {
     }
 
     /// The gradient, with respect to the tension-positive components, of a function whose
-    /// derivatives by σ1, σ2, σ3 are `d`. Two principal stresses within [`CORNER`] of the stress's
-    /// size count as a corner: they share their derivatives equally (Koiter's rule with equal
-    /// multipliers), which keeps them equal under a symmetric strain.
+    /// derivatives by σ1, σ2, σ3 are `d`.
     fn gradient(&self, d: [f64; 3]) -> Vector4<f64> {
-        let v = self.values;
-        let scale = v.iter().fold(f64::MIN_POSITIVE, |m, x| m.max(x.abs()));
-        let corner = |a: f64, b: f64| (a - b).abs() <= CORNER * scale;
-        let mut d = d;
-        if corner(v[0], v[1]) && corner(v[1], v[2]) {
-            d = [(d[0] + d[1] + d[2]) / 3.0; 3];
-        } else if corner(v[1], v[2]) {
-            let mean = 0.5 * (d[1] + d[2]);
-            d = [d[0], mean, mean];
-        } else if corner(v[0], v[1]) {
-            let mean = 0.5 * (d[0] + d[1]);
-            d = [mean, mean, d[2]];
-        }
         self.gradients[0] * d[0] + self.gradients[1] * d[1] + self.gradients[2] * d[2]
+    }
+
+    /// Whether principal stresses `a` and `b` (sorted indices) form a corner: within [`CORNER`] of
+    /// the stress's size.
+    fn corner(&self, a: usize, b: usize) -> bool {
+        let scale = self.values.iter().fold(f64::MIN_POSITIVE, |m, x| m.max(x.abs()));
+        (self.values[a] - self.values[b]).abs() <= CORNER * scale
     }
 }
 
@@ -212,41 +205,79 @@ struct Rate {
     cap: bool,
 }
 
-/// The mechanisms at a point: elasticity D, the shear hardening's gradient and flow, the cap's
-/// gradient (its flow too) and hardening modulus, and whether the point is on each surface.
+/// The family of a yield mechanism: the shear hardening surfaces share γp, the caps pp.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Family {
+    Shear,
+    Cap,
+}
+
+/// One yield mechanism at a point: its gradient n, its flow m and its family.
+#[derive(Debug, Clone, Copy)]
+struct Mechanism {
+    n: Vector4<f64>,
+    m: Vector4<f64>,
+    family: Family,
+}
+
+/// The mechanisms at a point: elasticity D; one shear hardening surface and one cap, or at a corner
+/// two of each (one for each order of the two equal principal stresses, so that the corner is kept
+/// as two active surfaces, Koiter's rule); the cap's hardening modulus (dpp per unit of the caps'
+/// multipliers); and which surfaces the point is on.
 #[derive(Debug, Clone, Copy)]
 struct Mechanisms {
     d: Matrix4<f64>,
-    n_shear: Vector4<f64>,
-    m_shear: Vector4<f64>,
-    n_cap: Vector4<f64>,
+    list: [Option<Mechanism>; 4],
     h_cap: f64,
-    on_shear: bool,
-    on_cap: bool,
+    on: Surfaces,
 }
 
 impl Mechanisms {
-    /// The multipliers of the mechanisms `shear` and `cap` for the elastic stress rate `elastic`,
-    /// from the consistency of each loading one (shear: n·dσ = λ; cap: n·dσ = H·λ).
-    fn multipliers(&self, elastic: &Vector4<f64>, shear: bool, cap: bool) -> (f64, f64) {
-        let d = &self.d;
-        let shear_shear = self.n_shear.dot(&(d * self.m_shear)) + 1.0;
-        let cap_cap = self.n_cap.dot(&(d * self.n_cap)) + self.h_cap;
-        match (shear, cap) {
-            (true, true) => {
-                let a = Matrix2::new(
-                    shear_shear,
-                    self.n_shear.dot(&(d * self.n_cap)),
-                    self.n_cap.dot(&(d * self.m_shear)),
-                    cap_cap,
-                );
-                let b = Vector2::new(self.n_shear.dot(elastic), self.n_cap.dot(elastic));
-                a.lu().solve(&b).map_or((b[0] / shear_shear, 0.0), |x| (x[0], x[1]))
+    /// The multipliers of the `active` mechanisms for the elastic stress rate `elastic`, from the
+    /// consistency of each: n·dσ = dγp = Σλ over the shear surfaces, n·dσ = dpp = H·Σλ over the caps.
+    /// Inactive ones get zero.
+    fn multipliers(&self, elastic: &Vector4<f64>, active: [bool; 4]) -> [f64; 4] {
+        let mut a = Matrix4::identity();
+        let mut b = Vector4::zeros();
+        for (i, mi) in self.list.iter().enumerate() {
+            let (Some(mi), true) = (mi, active[i]) else { continue };
+            b[i] = mi.n.dot(elastic);
+            for (j, mj) in self.list.iter().enumerate() {
+                let (Some(mj), true) = (mj, active[j]) else { continue };
+                let coupling = match (mi.family, mj.family) {
+                    (Family::Shear, Family::Shear) => 1.0,
+                    (Family::Cap, Family::Cap) => self.h_cap,
+                    _ => 0.0,
+                };
+                a[(i, j)] = mi.n.dot(&(self.d * mj.m)) + coupling;
             }
-            (true, false) => (self.n_shear.dot(elastic) / shear_shear, 0.0),
-            (false, true) => (0.0, self.n_cap.dot(elastic) / cap_cap),
-            (false, false) => (0.0, 0.0),
         }
+        // at a corner with both families loading, four mechanisms act in the three principal
+        // directions: the system is singular along equal and opposite splits of each pair, and
+        // the least-squares multipliers of least size split each pair evenly where the loading is
+        // even
+        let count = active.iter().filter(|a| **a).count();
+        let x = if count > 2 {
+            a.svd(true, true).solve(&b, 1e-10 * a.amax()).unwrap_or_else(|_| Vector4::zeros())
+        } else {
+            a.lu().solve(&b).unwrap_or_else(Vector4::zeros)
+        };
+        std::array::from_fn(|i| if active[i] { x[i] } else { 0.0 })
+    }
+
+    /// The plastic strain rate and the changes of γp and pp for `multipliers`.
+    fn flow(&self, multipliers: &[f64; 4]) -> (Vector4<f64>, f64, f64) {
+        let (mut plastic, mut shear, mut cap) = (Vector4::zeros(), 0.0, 0.0);
+        for (mechanism, l) in self.list.iter().zip(multipliers) {
+            if let Some(m) = mechanism {
+                plastic += m.m * *l;
+                match m.family {
+                    Family::Shear => shear += l,
+                    Family::Cap => cap += l,
+                }
+            }
+        }
+        (plastic, shear, self.h_cap * cap)
     }
 }
 
@@ -297,9 +328,9 @@ impl HardeningSoil {
         let lateral = (k - nu * (1.0 + k)) / e;
         // shear hardening: dγp = dfs/dσ·dσ, flow split between the two lateral directions
         let principal = Principal::of(&stress);
-        let (fs_1, fs_3) = law.shear_function_gradient(&principal.values);
+        let (_, fs_1, fs_3) = law.shear_terms(principal.values[0], principal.values[2]);
         let d_gamma = (fs_1 + 2.0 * k * fs_3 * 0.5).max(0.0);
-        let sin_psi = law.mobilised_dilatancy(&principal.values);
+        let sin_psi = law.mobilised_dilatancy(principal.values[0], principal.values[2]);
         let (shear_axial, shear_lateral) = (d_gamma * 0.5 * (1.0 - sin_psi), -d_gamma * 0.25 * (1.0 + sin_psi));
         // the cap's share: its axial and lateral flows (per unit multiplier) must make the lateral
         // strain zero and the axial strain 1/Eoed
@@ -357,22 +388,17 @@ impl HardeningSoil {
         self.elasticity(&[-pref, -pref, 0.0, -pref])
     }
 
-    /// The shear hardening function (2/Ei)·q/(1 − q/qa) − 2q/Eur, without γp.
+    /// The shear hardening function (2/Ei)·q/(1 − q/qa) − 2q/Eur of σ1 and σ3, without γp.
     fn shear_function(&self, v: &[f64; 3]) -> f64 {
-        let (a, _, _) = self.shear_terms(v);
-        a
+        self.shear_terms(v[0], v[2]).0
     }
 
-    /// The shear hardening function and its derivatives by σ1 and σ3.
-    fn shear_function_gradient(&self, v: &[f64; 3]) -> (f64, f64) {
-        let (_, d1, d3) = self.shear_terms(v);
-        (d1, d3)
-    }
-
-    fn shear_terms(&self, v: &[f64; 3]) -> (f64, f64, f64) {
+    /// The shear hardening function of the principal stresses `major` ≥ `minor`, and its
+    /// derivatives by each.
+    fn shear_terms(&self, major: f64, minor: f64) -> (f64, f64, f64) {
         let p = &self.parameters;
-        let q = (v[0] - v[2]).max(0.0);
-        let (r, dr) = self.stiffness_factor(v[2]);
+        let q = (major - minor).max(0.0);
+        let (r, dr) = self.stiffness_factor(minor);
         let m = p.power;
         let stiffness = r.powf(m);
         let d_stiffness = m * r.powf(m - 1.0) * dr;
@@ -397,8 +423,9 @@ impl HardeningSoil {
         (value, d_dq, d3)
     }
 
-    /// sin ψm of the shear mechanism's flow (Rowe), at least zero.
-    fn mobilised_dilatancy(&self, v: &[f64; 3]) -> f64 {
+    /// sin ψm of the shear mechanism's flow (Rowe) between the principal stresses `major` ≥
+    /// `minor`, at least zero.
+    fn mobilised_dilatancy(&self, major: f64, minor: f64) -> f64 {
         let p = &self.parameters;
         if p.dilatancy_angle <= 0.0 {
             return 0.0;
@@ -407,11 +434,11 @@ impl HardeningSoil {
         let sin_psi = p.dilatancy_angle.sin();
         let sin_cv = (sin - sin_psi) / (1.0 - sin * sin_psi);
         let apex = p.cohesion * cos / sin;
-        let sum = v[0] + v[2] + 2.0 * apex;
+        let sum = major + minor + 2.0 * apex;
         if sum <= 0.0 {
             return sin_psi;
         }
-        let sin_m = ((v[0] - v[2]) / sum).clamp(0.0, sin);
+        let sin_m = ((major - minor) / sum).clamp(0.0, sin);
         ((sin_m - sin_cv) / (1.0 - sin_m * sin_cv)).clamp(0.0, sin_psi)
     }
 
@@ -479,45 +506,91 @@ impl HardeningSoil {
         }
     }
 
-    /// The mechanisms at `point`, for a strain in the direction `d_strain`: elasticity, gradients,
-    /// flows and the cap's hardening modulus. At an isotropic stress, where q has no gradient, the
-    /// principal directions are those the stress is about to take (of the stress a little way along
-    /// the elastic rate).
+    /// The mechanisms at `point`, for a strain in the direction `d_strain`. At an isotropic stress,
+    /// where q has no gradient, the principal directions, and the corners, are those the stress is
+    /// about to take (of the stress a little way along the elastic rate).
     fn mechanisms(&self, point: &Point, d_strain: &Vector4<f64>) -> Mechanisms {
         let d = self.elasticity(&point.stress).d_matrix_with_hoop();
         let mut principal = Principal::of(&point.stress);
         let v = principal.values;
         let scale = v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
         let rate = d * d_strain;
+        let mut order = principal;
         if v[0] - v[2] <= CORNER * scale && rate.amax() > 0.0 {
             let probe =
                 Vector4::from(point.stress) + rate * (10.0 * CORNER * scale.max(f64::MIN_POSITIVE) / rate.amax());
-            principal.gradients = Principal::of(&probe.into()).gradients;
-            let probe_values = Principal::of(&probe.into()).values;
-            principal.values = probe_values;
+            order = Principal::of(&probe.into());
+            principal.gradients = order.gradients;
         }
-        // shear hardening: n·dσ = dγp, the multiplier itself
-        let (fs_1, fs_3) = self.shear_function_gradient(&v);
-        let sin_psi = self.mobilised_dilatancy(&v);
-        // cap: n·dσ = dpp = H·λ
-        let (q, p) = self.cap_invariants(&v);
-        let size = self.equivalent_pressure(&v).max(f64::MIN_POSITIVE);
-        let delta = self.delta();
-        let a = self.cap_shape;
         let pref = self.parameters.reference_pressure;
+        let mut list = [None; 4];
+        // shear hardening on the pair (1, 3), and at a corner on the pair with the other order
+        let pairs = if order.corner(1, 2) && !order.corner(0, 1) {
+            [Some((0, 2)), Some((0, 1))]
+        } else if order.corner(0, 1) && !order.corner(1, 2) {
+            [Some((0, 2)), Some((1, 2))]
+        } else {
+            [Some((0, 2)), None]
+        };
+        for (k, (i, j)) in pairs.iter().enumerate().filter_map(|(k, p)| p.map(|p| (k, p))) {
+            let (_, by_major, by_minor) = self.shear_terms(v[i], v[j]);
+            let sin_psi = self.mobilised_dilatancy(v[i], v[j]);
+            let (mut n, mut m) = ([0.0; 3], [0.0; 3]);
+            (n[i], n[j]) = (by_major, by_minor);
+            (m[i], m[j]) = (0.5 * (1.0 - sin_psi), -0.5 * (1.0 + sin_psi));
+            list[k] = Some(Mechanism { n: principal.gradient(n), m: principal.gradient(m), family: Family::Shear });
+        }
+        // the cap, q̃ = σ1 + (δ − 1)σ2 − δσ3, and at a corner with the two equal ones swapped
+        let delta = self.delta();
+        let sorted = [1.0, delta - 1.0, -delta];
+        let orders = if order.corner(1, 2) && !order.corner(0, 1) {
+            [Some(sorted), Some([1.0, -delta, delta - 1.0])]
+        } else if order.corner(0, 1) && !order.corner(1, 2) {
+            [Some(sorted), Some([delta - 1.0, 1.0, -delta])]
+        } else {
+            [Some(sorted), None]
+        };
+        let p = (v[0] + v[1] + v[2]) / 3.0;
+        let size = self.equivalent_pressure(&v).max(f64::MIN_POSITIVE);
+        let a = self.cap_shape;
+        for (k, c) in orders.iter().enumerate().filter_map(|(k, c)| c.map(|c| (k, c))) {
+            let q = c[0] * v[0] + c[1] * v[1] + c[2] * v[2];
+            let n = principal.gradient(std::array::from_fn(|i| (a * q * c[i] + p / 3.0) / size));
+            list[2 + k] = Some(Mechanism { n, m: n, family: Family::Cap });
+        }
         let pp = point.preconsolidation;
         Mechanisms {
             d,
-            n_shear: principal.gradient([fs_1, 0.0, fs_3]),
-            m_shear: principal.gradient([0.5 * (1.0 - sin_psi), 0.0, -0.5 * (1.0 + sin_psi)]),
-            n_cap: principal.gradient([
-                (a * q + p / 3.0) / size,
-                (a * q * (delta - 1.0) + p / 3.0) / size,
-                (-a * q * delta + p / 3.0) / size,
-            ]),
+            list,
             h_cap: (pref / self.cap_hardening) * (pp / pref).powf(self.parameters.power) * (p / size).max(0.0),
-            on_shear: self.shear_function(&v) >= point.shear_hardening * (1.0 - ON_SURFACE),
-            on_cap: size >= pp * (1.0 - ON_SURFACE),
+            on: Surfaces {
+                shear: self.shear_function(&v) >= point.shear_hardening * (1.0 - ON_SURFACE),
+                cap: size >= pp * (1.0 - ON_SURFACE),
+            },
+        }
+    }
+
+    /// Which of `at`'s mechanisms load under the elastic stress rate `elastic`, the `allowed`
+    /// families on their surfaces: those whose multipliers come out positive, dropping the most
+    /// negative one at a time; and their multipliers.
+    fn loading(&self, at: &Mechanisms, elastic: &Vector4<f64>, allowed: Surfaces) -> ([bool; 4], [f64; 4]) {
+        let mut active: [bool; 4] = std::array::from_fn(|i| match at.list[i] {
+            Some(m) => {
+                let (allowed, on) = match m.family {
+                    Family::Shear => (allowed.shear, at.on.shear),
+                    Family::Cap => (allowed.cap, at.on.cap && at.h_cap > 0.0),
+                };
+                allowed && on && m.n.dot(elastic) > 0.0
+            }
+            None => false,
+        });
+        loop {
+            let l = at.multipliers(elastic, active);
+            let (worst, value) = l.iter().enumerate().fold((0, 0.0), |w, (i, &x)| if x < w.1 { (i, x) } else { w });
+            if value >= 0.0 {
+                return (active, l);
+            }
+            active[worst] = false;
         }
     }
 
@@ -526,28 +599,17 @@ impl HardeningSoil {
     fn rate(&self, point: &Point, d_strain: &Vector4<f64>, allowed: Surfaces) -> Rate {
         let at = self.mechanisms(point, d_strain);
         let elastic = at.d * d_strain;
-        let mut shear = allowed.shear && at.on_shear && at.n_shear.dot(&elastic) > 0.0;
-        let mut cap = allowed.cap && at.on_cap && at.n_cap.dot(&elastic) > 0.0 && at.h_cap > 0.0;
-        let (mut l_shear, mut l_cap) = (0.0, 0.0);
-        for _ in 0..3 {
-            (l_shear, l_cap) = at.multipliers(&elastic, shear, cap);
-            if l_shear < 0.0 {
-                shear = false;
-            } else if l_cap < 0.0 {
-                cap = false;
-            } else {
-                break;
-            }
-        }
-        let (l_shear, l_cap) = (if shear { l_shear.max(0.0) } else { 0.0 }, if cap { l_cap.max(0.0) } else { 0.0 });
-        let plastic = at.m_shear * l_shear + at.n_cap * l_cap;
+        let (active, l) = self.loading(&at, &elastic, allowed);
+        let (plastic, shear_hardening, preconsolidation) = at.flow(&l);
+        let loads =
+            |family: Family| (0..4).any(|i| active[i] && l[i] > 0.0 && at.list[i].is_some_and(|m| m.family == family));
         Rate {
             stress: elastic - at.d * plastic,
-            shear_hardening: l_shear,
-            preconsolidation: at.h_cap * l_cap,
+            shear_hardening,
+            preconsolidation,
             plastic_strain: plastic,
-            shear: l_shear > 0.0,
-            cap: l_cap > 0.0,
+            shear: loads(Family::Shear),
+            cap: loads(Family::Cap),
         }
     }
 
@@ -586,14 +648,14 @@ impl HardeningSoil {
     /// The continuum elastoplastic tangent at `point` of the mechanisms that load under `d_strain`;
     /// elasticity if none does.
     fn tangent(&self, point: &Point, d_strain: &Vector4<f64>) -> Matrix4<f64> {
-        let rate = self.rate(point, d_strain, Surfaces { shear: true, cap: true });
         let at = self.mechanisms(point, d_strain);
+        let (active, _) = self.loading(&at, &(at.d * d_strain), Surfaces { shear: true, cap: true });
         // column by column: the rate is linear in the strain for a fixed set of loading mechanisms
         let mut t = Matrix4::zeros();
         for j in 0..4 {
             let elastic = at.d.column(j).into_owned();
-            let (l_shear, l_cap) = at.multipliers(&elastic, rate.shear, rate.cap);
-            t.set_column(j, &(elastic - at.d * (at.m_shear * l_shear + at.n_cap * l_cap)));
+            let (plastic, _, _) = at.flow(&at.multipliers(&elastic, active));
+            t.set_column(j, &(elastic - at.d * plastic));
         }
         t
     }
