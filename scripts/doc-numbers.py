@@ -215,9 +215,9 @@ def wall_numbers(geoslip, work):
     rows = ["| layer | depth Z [m] | T_max, lifts placed [kN/m] | T_max, lifts compacted [kN/m] | change | "
             "Simplified Method [kN/m] |", "|---|---:|---:|---:|---:|---:|"]
     for p, c in zip(plain_rows, compacted_rows):
-        t_p, t_c = float(p["T_max analysis"]), float(c["T_max analysis"])
-        # (one decimal of the change: MUMPS's ordering differs from one run to the next, and with it
-        # the last digits)
+        # (the change from the loads as the table prints them: MUMPS's ordering differs from one run
+        # to the next, and with it the last digits, which could tip a change computed unrounded)
+        t_p, t_c = round(float(p["T_max analysis"]), 2), round(float(c["T_max analysis"]), 2)
         rows.append(f"| {p['layer']} | {float(p['depth Z']):.1f} | {t_p:.2f} | {t_c:.2f} | {percent(t_c, t_p, 1)} | "
                     f"{float(p['T_max simplified']):.2f} |")
     sum_p = sum(float(r["T_max analysis"]) for r in plain_rows)
