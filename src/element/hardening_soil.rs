@@ -59,6 +59,7 @@
 
 use super::mohr_coulomb::{self, MohrCoulomb, StressUpdate, YieldState};
 use super::solid::PlaneStrain;
+use super::yield_mechanisms::{Family, Mechanism, Mechanisms, Principal, Surfaces, CORNER};
 use nalgebra::{Matrix4, Vector4};
 
 /// The elastic stress change of one substep, relative to the stress (or to the whole update's
@@ -69,9 +70,6 @@ pub const SUBSTEP: f64 = 0.002;
 pub const CONFINEMENT_FLOOR: f64 = 0.01;
 /// A point is on a surface within this fraction of its γp or pp.
 const ON_SURFACE: f64 = 1e-9;
-/// The width of a corner, as a fraction of the stress's size: two principal stresses closer than
-/// this are a corner, where both of their orders are yield surfaces.
-const CORNER: f64 = 1e-4;
 
 /// The parameters of a hardening soil, by their usual names.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -156,44 +154,6 @@ pub struct HardeningUpdate {
     pub elasticity: PlaneStrain,
 }
 
-/// The principal stresses of (σxx, σyy, τxy, σzz), compression positive and sorted (σ1 ≥ σ2 ≥ σ3),
-/// with the gradient of each with respect to the tension-positive components.
-#[derive(Debug, Clone, Copy)]
-struct Principal {
-    values: [f64; 3],
-    gradients: [Vector4<f64>; 3],
-}
-
-impl Principal {
-    fn of(s: &[f64; 4]) -> Principal {
-        let centre = 0.5 * (s[0] + s[1]);
-        let half = 0.5 * (s[0] - s[1]);
-        let radius = (half * half + s[2] * s[2]).sqrt();
-        let (cos2, sin2) = if radius > 0.0 { (half / radius, s[2] / radius) } else { (1.0, 0.0) };
-        // tension positive: λ+ = centre + radius, λ− = centre − radius, λz = σzz; compression
-        // positive values are their negatives, and so are the gradients
-        let plus = Vector4::new(-0.5 - 0.5 * cos2, -0.5 + 0.5 * cos2, -sin2, 0.0);
-        let minus = Vector4::new(-0.5 + 0.5 * cos2, -0.5 - 0.5 * cos2, sin2, 0.0);
-        let zz = Vector4::new(0.0, 0.0, 0.0, -1.0);
-        let mut pairs = [(-(centre - radius), minus), (-(centre + radius), plus), (-s[3], zz)];
-        pairs.sort_by(|a, b| b.0.total_cmp(&a.0));
-        Principal { values: pairs.map(|p| p.0), gradients: pairs.map(|p| p.1) }
-    }
-
-    /// The gradient, with respect to the tension-positive components, of a function whose
-    /// derivatives by σ1, σ2, σ3 are `d`.
-    fn gradient(&self, d: [f64; 3]) -> Vector4<f64> {
-        self.gradients[0] * d[0] + self.gradients[1] * d[1] + self.gradients[2] * d[2]
-    }
-
-    /// Whether principal stresses `a` and `b` (sorted indices) form a corner: within [`CORNER`] of
-    /// the stress's size.
-    fn corner(&self, a: usize, b: usize) -> bool {
-        let scale = self.values.iter().fold(f64::MIN_POSITIVE, |m, x| m.max(x.abs()));
-        (self.values[a] - self.values[b]).abs() <= CORNER * scale
-    }
-}
-
 /// What a substep changes: the stress, γp, pp, the plastic strain, and which mechanisms load.
 #[derive(Debug, Clone, Copy)]
 struct Rate {
@@ -201,89 +161,6 @@ struct Rate {
     shear_hardening: f64,
     preconsolidation: f64,
     plastic_strain: Vector4<f64>,
-    shear: bool,
-    cap: bool,
-}
-
-/// The family of a yield mechanism: the shear hardening surfaces share γp, the caps pp.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Family {
-    Shear,
-    Cap,
-}
-
-/// One yield mechanism at a point: its gradient n, its flow m and its family.
-#[derive(Debug, Clone, Copy)]
-struct Mechanism {
-    n: Vector4<f64>,
-    m: Vector4<f64>,
-    family: Family,
-}
-
-/// The mechanisms at a point: elasticity D; one shear hardening surface and one cap, or at a corner
-/// two of each (one for each order of the two equal principal stresses, so that the corner is kept
-/// as two active surfaces, Koiter's rule); the cap's hardening modulus (dpp per unit of the caps'
-/// multipliers); and which surfaces the point is on.
-#[derive(Debug, Clone, Copy)]
-struct Mechanisms {
-    d: Matrix4<f64>,
-    list: [Option<Mechanism>; 4],
-    h_cap: f64,
-    on: Surfaces,
-}
-
-impl Mechanisms {
-    /// The multipliers of the `active` mechanisms for the elastic stress rate `elastic`, from the
-    /// consistency of each: n·dσ = dγp = Σλ over the shear surfaces, n·dσ = dpp = H·Σλ over the caps.
-    /// Inactive ones get zero.
-    fn multipliers(&self, elastic: &Vector4<f64>, active: [bool; 4]) -> [f64; 4] {
-        let mut a = Matrix4::identity();
-        let mut b = Vector4::zeros();
-        for (i, mi) in self.list.iter().enumerate() {
-            let (Some(mi), true) = (mi, active[i]) else { continue };
-            b[i] = mi.n.dot(elastic);
-            for (j, mj) in self.list.iter().enumerate() {
-                let (Some(mj), true) = (mj, active[j]) else { continue };
-                let coupling = match (mi.family, mj.family) {
-                    (Family::Shear, Family::Shear) => 1.0,
-                    (Family::Cap, Family::Cap) => self.h_cap,
-                    _ => 0.0,
-                };
-                a[(i, j)] = mi.n.dot(&(self.d * mj.m)) + coupling;
-            }
-        }
-        // at a corner with both families loading, four mechanisms act in the three principal
-        // directions: the system is singular along equal and opposite splits of each pair, and
-        // the least-squares multipliers of least size split each pair evenly where the loading is
-        // even
-        let count = active.iter().filter(|a| **a).count();
-        let x = if count > 2 {
-            a.svd(true, true).solve(&b, 1e-10 * a.amax()).unwrap_or_else(|_| Vector4::zeros())
-        } else {
-            a.lu().solve(&b).unwrap_or_else(Vector4::zeros)
-        };
-        std::array::from_fn(|i| if active[i] { x[i] } else { 0.0 })
-    }
-
-    /// The plastic strain rate and the changes of γp and pp for `multipliers`.
-    fn flow(&self, multipliers: &[f64; 4]) -> (Vector4<f64>, f64, f64) {
-        let (mut plastic, mut shear, mut cap) = (Vector4::zeros(), 0.0, 0.0);
-        for (mechanism, l) in self.list.iter().zip(multipliers) {
-            if let Some(m) = mechanism {
-                plastic += m.m * *l;
-                match m.family {
-                    Family::Shear => shear += l,
-                    Family::Cap => cap += l,
-                }
-            }
-        }
-        (plastic, shear, self.h_cap * cap)
-    }
-}
-
-/// Which of the two hardening surfaces: on them, or allowed to load.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-struct Surfaces {
     shear: bool,
     cap: bool,
 }
