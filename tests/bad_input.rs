@@ -224,7 +224,9 @@ fn every_json_model_has_its_expect_file_and_every_expect_file_its_model() {
                 problems.push(format!("{}: no JSON model beside it", entry.display()))
             }
             Some("toml" | "json" | "expect") => {}
-            _ => problems.push(format!("{}: not a model (.toml, .json) or an .expect file", entry.display())),
+            // the records the broken models' dynamic stages read
+            None if entry.ends_with("records") && entry.is_dir() => {}
+            _ => problems.push(format!("{}: not a model (.toml, .json), an .expect file or records/", entry.display())),
         }
     }
     assert!(problems.is_empty(), "{}", problems.join("\n"));

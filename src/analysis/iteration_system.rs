@@ -142,6 +142,7 @@ pub fn first_system(model: &Model) -> (usize, IterationSystem) {
         bars: crate::element::bar::BarStates::new(model.mesh.bars.len()),
         soil: soil::initial_field(&model.initially_absent()),
         placed: Vec::new(),
+        motion: None,
     };
     let rows = InterfaceRows::new(&model.mesh, &state.interfaces, &dofs.multipliers);
     let springs = springs::evaluate(model, &state, &rows);

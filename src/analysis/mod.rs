@@ -57,6 +57,7 @@ mod stage;
 mod state;
 mod stats;
 mod strength_reduction;
+pub mod time_scheme;
 
 pub use checkpoint::{Checkpoint, ResumeRefusal};
 pub use context::model_memory_estimate_mb;
@@ -124,10 +125,11 @@ fn stages_from(cx: &mut Context, state: &mut State, first: usize, sink: &mut dyn
         }
         cx.stats.stage_setup_seconds += started.elapsed().as_secs_f64();
         let started = Instant::now();
-        let done = match plan.strength_reduction {
-            Some(reduction) => strength_reduction::search(cx, state, &mut stage, reduction, sink)
+        let done = match (plan.strength_reduction, &plan.dynamic) {
+            (Some(reduction), _) => strength_reduction::search(cx, state, &mut stage, reduction, sink)
                 .and_then(|fs| sink.factor_of_safety(&fs)),
-            None => stage::increments(cx, state, &mut stage, sink),
+            (None, Some(dynamic)) => stage::time_steps(cx, state, &mut stage, dynamic, sink),
+            (None, None) => stage::increments(cx, state, &mut stage, sink),
         };
         cx.stats.increments_seconds += started.elapsed().as_secs_f64();
         done?;

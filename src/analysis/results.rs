@@ -69,6 +69,9 @@ pub struct StepResults {
     /// Reactions over every held DOF (2·node + d), zero where free.
     pub reaction_vector: Vec<f64>,
     pub displacement_vector: Vec<f64>,
+    /// In a dynamic stage: the time, the base's acceleration and the velocities and accelerations
+    /// relative to the base.
+    pub motion: Option<crate::analysis::time_scheme::Motion>,
 }
 
 impl StepResults {
@@ -202,6 +205,7 @@ impl StepResults {
             stresses,
             reaction_vector,
             displacement_vector: state.u.clone(),
+            motion: state.motion.clone(),
         }
     }
 }

@@ -42,6 +42,9 @@ pub fn check(saved: &Checkpoint, model: &Model, stage_index: usize, step: usize)
             stage_index + 1
         ));
     }
+    if stage.dynamic.is_some() {
+        return Err(format!("its stage \"{}\" is dynamic, and a dynamic stage keeps no saved steps", stage.name));
+    }
     if saved.stage != stage.name {
         return Err(format!(
             "it names its stage \"{}\", and that stage of the model is \"{}\"",

@@ -73,6 +73,18 @@ impl Collect {
     }
 }
 
+impl StepRecord {
+    /// Where the step is in its stage, in words: its time in a dynamic stage, the strength
+    /// reduction factor in a strength-reduction search, its load factor otherwise.
+    pub fn position(&self) -> String {
+        match (self.time, self.strength_factor) {
+            (Some(t), _) => format!("t = {t:.4} s"),
+            (None, Some(f)) => format!("strengths divided by {f:.4}"),
+            (None, None) => format!("load factor {:.4}", self.load_factor),
+        }
+    }
+}
+
 /// One converged step, as the run summary lists it.
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct StepRecord {
@@ -80,6 +92,9 @@ pub struct StepRecord {
     pub stage_index: usize,
     pub step: usize,
     pub load_factor: f64,
+    /// The time [s] from the start of a dynamic stage.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub time: Option<f64>,
     /// The strength reduction factor F of a strength-reduction stage (strengths divided by F).
     pub strength_factor: Option<f64>,
     /// A loading history's factor reverses at this step (cyclic loading).

@@ -270,6 +270,27 @@ fn unit_weight(model: &Model, solid: usize, water: Option<&WaterTable>, x: [f64;
     }
 }
 
+/// Each soil element's mass matrix (`lumping`), its density its unit weight over `gravity` (g in
+/// the model's length per s²; saturated below the water table).
+pub fn masses(
+    model: &Model,
+    field: &SoilField,
+    gravity: f64,
+    lumping: crate::element::mass::Lumping,
+) -> Vec<DMatrix<f64>> {
+    let mesh = &model.mesh;
+    mesh.solids
+        .par_iter()
+        .enumerate()
+        .map(|(s, e)| {
+            let coords: Vec<[f64; 2]> = e.nodes.iter().map(|&n| mesh.position(n)).collect();
+            let density = |x: [f64; 2]| unit_weight(model, s, field.water.as_ref(), x) / gravity;
+            crate::element::mass::mass(e.kind, &coords, density, mesh.geometry, lumping)
+                .expect("element Jacobians were checked when the model was read")
+        })
+        .collect()
+}
+
 /// Consistent nodal forces of the weight (−y) of the present soil, times `factor`.
 pub fn weight(model: &Model, setup: &SoilSetup, field: &SoilField, factor: f64) -> Vec<f64> {
     let mesh = &model.mesh;

@@ -31,6 +31,10 @@ pub struct State {
     /// Nodes of soil or reinforcement in place now: a face whose master segment is not (cover soil
     /// still to come over a liner) has no contact there. Empty: every node.
     pub placed: Vec<bool>,
+    /// While a dynamic stage runs: time, velocities, accelerations (a dynamic stage keeps no
+    /// saved steps, so a saved step never holds one).
+    #[serde(skip)]
+    pub motion: Option<super::time_scheme::Motion>,
 }
 
 impl State {
@@ -49,6 +53,7 @@ impl State {
             bars: BarStates { absent: model.initially_absent_bars(), ..BarStates::new(model.mesh.bars.len()) },
             soil: soil::initial_field(&model.initially_absent()),
             placed: Vec::new(),
+            motion: None,
         };
         state.reserve_segments(options);
         state

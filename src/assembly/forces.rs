@@ -1,7 +1,8 @@
 //! The internal forces (the elements' K_e·u_e, the springs' τ·ℓ·row, the bars' axial forces) and
 //! the round-off floor of an out-of-balance force made from them.
 
-use super::system::{par_block_sum, ElementMatrices, SoilView};
+use super::block_sum::par_block_sum;
+use super::system::{ElementMatrices, SoilView};
 use crate::element::bar::BarStates;
 use crate::element::soil_state::element_force;
 use crate::interface::rows::InterfaceRows;
@@ -85,6 +86,9 @@ fn forces_and_magnitudes(
         let state = &soil.field.elements()[s];
         if !state.active {
             return;
+        }
+        if let Some(inertia) = &elements.inertia {
+            inertia.add_force(s, k, dl, u, f, magnitudes.then_some(n));
         }
         if magnitudes {
             let forces = [

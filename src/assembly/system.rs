@@ -2,6 +2,8 @@
 //! assembled in triplet form over the free DOFs and the multipliers (with its fingerprint). The
 //! internal forces are in `forces.rs`.
 
+use super::block_sum::par_block_sum;
+use super::inertia::Inertia;
 use crate::dofs::DofMap;
 use crate::element::bar::{self, BarLaw, BarMaterial, BarStates};
 use crate::element::soil_state::{SoilField, SoilTrial};
@@ -26,44 +28,9 @@ pub struct ElementMatrices {
     pub bars: Vec<BarLaw>,
     /// Mean absolute diagonal entry of the blocks (see [`ElementMatrices::typical_stiffness`]).
     typical: f64,
-}
-
-/// Sum per-DOF contributions of element blocks over `n` DOFs, in parallel: the blocks are cut into a
-/// fixed number of runs (not one per thread), each summed into a vector of its own, and the vectors
-/// are added in order, so that the result does not depend on the number of threads. The runs' length
-/// is set by the first `leading` blocks alone (the blocks after them fall into runs of the same
-/// length): a sum over those blocks cuts them where a sum over them and more blocks does, so that
-/// what the leading blocks add up to is the same to the last bit in both.
-pub(super) fn par_block_sum(
-    blocks: &[(Vec<usize>, DMatrix<f64>)],
-    leading: usize,
-    n: usize,
-    each: impl Fn(usize, &[usize], &DMatrix<f64>, &mut [f64]) + Sync,
-) -> Vec<f64> {
-    use rayon::prelude::*;
-    const RUNS: usize = 4;
-    const SEQUENTIAL_BELOW: usize = 4096;
-    let leading = leading.min(blocks.len());
-    let run = if leading < SEQUENTIAL_BELOW { leading.max(1) } else { leading.div_ceil(RUNS) };
-    let parts: Vec<Vec<f64>> = blocks
-        .par_chunks(run)
-        .enumerate()
-        .map(|(c, chunk)| {
-            let mut f = vec![0.0; n];
-            for (i, (dl, k)) in chunk.iter().enumerate() {
-                each(c * run + i, dl, k, &mut f);
-            }
-            f
-        })
-        .collect();
-    let mut parts = parts.into_iter();
-    let mut total = parts.next().unwrap_or_else(|| vec![0.0; n]);
-    for part in parts {
-        for (t, p) in total.iter_mut().zip(&part) {
-            *t += p;
-        }
-    }
-    total
+    /// While a dynamic stage runs: the soil's masses and the time step's dynamic operator, added
+    /// to the soil's blocks and internal force.
+    pub inertia: Option<Inertia>,
 }
 
 impl ElementMatrices {
@@ -105,7 +72,7 @@ impl ElementMatrices {
             });
             blocks.push((dofs_of(&b.nodes), DMatrix::from_fn(4, 4, |i, j| k[(i, j)])));
         }
-        let mut elements = ElementMatrices { blocks, bars, typical: 1.0 };
+        let mut elements = ElementMatrices { blocks, bars, typical: 1.0, inertia: None };
         elements.typical = elements.mean_diagonal();
         elements
     }
@@ -152,7 +119,7 @@ enum Blocks {
 /// reuses its factorisation.
 #[derive(Clone, Copy)]
 pub struct SystemInputs<'a> {
-    /// Computed once per run; the fingerprint leaves them out.
+    /// Computed once per run; the fingerprint takes only their inertia (a dynamic stage's).
     pub elements: &'a ElementMatrices,
     pub soil: SoilView<'a>,
     pub rows: &'a InterfaceRows,
@@ -207,18 +174,20 @@ impl SystemInputs<'_> {
         let SystemInputs { elements, soil, dofs, .. } = *self;
         let eq = |d: usize| dofs.equation[d];
         let first_bar = elements.bars.first().map_or(elements.blocks.len(), |bar| bar.block);
-        par_block_sum(&elements.blocks[..first_bar], first_bar, x.len(), |b, dl, k, y| {
+        let inertia = elements.inertia.as_ref();
+        par_block_sum(&elements.blocks[..first_bar], first_bar, x.len(), |b, dl, elastic, y| {
             if !soil.field.elements()[b].active {
                 return;
             }
-            // a yielding element's tangent, as `add_blocks` takes it
-            let k = soil.trial.tangents.get(b).and_then(|t| t.as_ref()).unwrap_or(k);
+            // a yielding element's tangent, as `add_blocks` takes it, and its dynamic part
+            let k = soil.trial.tangents.get(b).and_then(|t| t.as_ref()).unwrap_or(elastic);
+            let entry = |a: usize, c: usize| k[(a, c)] + inertia.map_or(0.0, |d| d.entry(b, elastic, a, c));
             for (a, &da) in dl.iter().enumerate() {
                 let Some(i) = eq(da) else { continue };
                 let mut sum = 0.0;
                 for (c, &dc) in dl.iter().enumerate() {
                     if let Some(j) = eq(dc) {
-                        sum += k[(a, c)] * x[j];
+                        sum += entry(a, c) * x[j];
                     }
                 }
                 y[i] += sum;
@@ -241,6 +210,7 @@ impl SystemInputs<'_> {
         use std::hash::{Hash, Hasher};
         let mut h = std::collections::hash_map::DefaultHasher::new();
         hash_soil(self.soil, &mut h);
+        self.elements.inertia.as_ref().map(Inertia::key).hash(&mut h);
         self.soil.trial.tangents.len().hash(&mut h);
         self.dofs.equation_key().hash(&mut h);
         h.finish()
@@ -285,19 +255,26 @@ impl SystemInputs<'_> {
         let SystemInputs { elements, soil, bars, dofs, .. } = *self;
         let eq = |d: usize| dofs.equation[d];
         let first_bar = elements.bars.first().map_or(usize::MAX, |bar| bar.block);
-        for (b, (dl, k)) in elements.blocks.iter().enumerate() {
-            if !self.takes_block(b, first_bar, which) {
+        for (e, (dl, elastic)) in elements.blocks.iter().enumerate() {
+            if !self.takes_block(e, first_bar, which) {
                 continue;
             }
             // a yielding element gives its tangent
-            let k = if b < first_bar { soil.trial.tangents.get(b).and_then(|t| t.as_ref()).unwrap_or(k) } else { k };
+            let k = if e < first_bar {
+                soil.trial.tangents.get(e).and_then(|t| t.as_ref()).unwrap_or(elastic)
+            } else {
+                elastic
+            };
+            // a soil element's inertia and damping in a dynamic stage
+            let inertia = elements.inertia.as_ref().filter(|_| e < first_bar);
             // a ruptured or not yet placed bar keeps its place in the pattern with no stiffness
-            let factor = if b >= first_bar && bars.idle(b - first_bar) { 0.0 } else { 1.0 };
+            let factor = if e >= first_bar && bars.idle(e - first_bar) { 0.0 } else { 1.0 };
             for (a, &da) in dl.iter().enumerate() {
                 let Some(ia) = eq(da) else { continue };
                 for (b, &db) in dl.iter().enumerate() {
                     if let Some(ib) = eq(db) {
-                        t.push(ia, ib, factor * k[(a, b)]);
+                        let dynamic = inertia.map_or(0.0, |d| d.entry(e, elastic, a, b));
+                        t.push(ia, ib, factor * k[(a, b)] + dynamic);
                     }
                 }
             }
@@ -392,7 +369,7 @@ impl SystemInputs<'_> {
     /// are active, and the row scale.
     pub fn fingerprint(&self) -> u64 {
         let SystemInputs {
-            elements: _,
+            elements,
             soil,
             rows,
             spring_stiffness,
@@ -431,6 +408,7 @@ impl SystemInputs<'_> {
         bars.ruptured.hash(&mut h);
         bars.absent.hash(&mut h);
         hash_soil(soil, &mut h);
+        elements.inertia.as_ref().map(Inertia::key).hash(&mut h);
         for k in 0..dofs.multipliers.len() {
             multiplier_is_active(interfaces, dofs.multipliers[k]).hash(&mut h);
         }

@@ -53,19 +53,13 @@ impl StepSink for Progress {
             self.bar.set_length(done);
         }
         self.bar.set_position(done);
-        self.bar.set_message(match record.strength_factor {
-            Some(f) => format!("{} (strengths / {f:.3})", record.stage),
-            None => format!("{} (load factor {:.3})", record.stage, record.load_factor),
-        });
+        self.bar.set_message(format!("{} ({})", record.stage, record.position()));
         if self.verbosity == Verbosity::Verbose {
             let line = format!(
                 "stage \"{}\" step {}: {}, {} iterations, {} cutbacks, force residual {:.1e}, {} sliding of {} in contact, {} soil points yielding, {} state changes, {} re-associations",
                 record.stage,
                 record.step,
-                match record.strength_factor {
-                    Some(f) => format!("strengths divided by {f:.4}"),
-                    None => format!("load factor {:.4}", record.load_factor),
-                },
+                record.position(),
                 record.iterations,
                 record.cutbacks,
                 record.force_residual,

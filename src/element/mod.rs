@@ -4,6 +4,7 @@ pub mod bar;
 pub mod duncan_chang;
 pub mod geometry;
 pub mod hardening_soil;
+pub mod mass;
 pub mod mohr_coulomb;
 pub mod soil_law;
 pub mod soil_state;

@@ -13,6 +13,7 @@ use std::collections::BTreeMap;
 pub use crate::design::DesignParameters;
 pub use crate::dofs::Direction;
 pub use crate::element::geometry::Geometry;
+pub use crate::element::mass::Lumping;
 pub use crate::element::solid::SolidKind;
 
 /// A complete geoslip model.
@@ -708,6 +709,94 @@ pub struct Stage {
     /// "Compaction").
     #[serde(default)]
     pub compaction: Option<CompactionSpec>,
+    /// Make this stage dynamic: time steps of the equations of motion under a base acceleration,
+    /// from the state the stages before it left (docs/dynamics.md). It takes no loads.
+    #[serde(default)]
+    pub dynamic: Option<DynamicSpec>,
+}
+
+/// A dynamic stage: the soil's inertia (its density is its unit weight over g), Rayleigh damping
+/// and a base acceleration, integrated by the HHT-α method (Hilber, Hughes & Taylor 1977), of
+/// which Newmark's average acceleration is α = 0. Times are in seconds.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct DynamicSpec {
+    /// The time step Δt [s], > 0.
+    pub time_step: f64,
+    /// The stage's duration [s], > 0: it takes duration/Δt steps (the last one shorter when they
+    /// do not divide).
+    pub duration: f64,
+    /// HHT-α's α, in [−1/3, 0]: 0 is Newmark's average acceleration (no numerical damping); below
+    /// it, the highest frequencies are damped most (the multipliers' spurious oscillation). Default
+    /// −0.05.
+    #[serde(default = "default_hht_alpha")]
+    pub alpha: f64,
+    /// Rayleigh damping, C = a0·M + a1·K (K the soil's elastic stiffness). Default none.
+    #[serde(default)]
+    pub damping: Option<RayleighDamping>,
+    /// `lumped` (default) or `consistent` mass.
+    #[serde(default)]
+    pub mass: Lumping,
+    /// The base's acceleration, at most one motion per direction; the base is the model's
+    /// supports, and the displacements are relative to it.
+    #[serde(default)]
+    pub base_motion: Vec<BaseMotion>,
+}
+
+fn default_hht_alpha() -> f64 {
+    -0.05
+}
+
+/// Rayleigh damping: a ratio ξ at two frequencies (a0 = 2ξω1ω2/(ω1 + ω2), a1 = 2ξ/(ω1 + ω2)),
+/// or the two coefficients themselves.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct RayleighDamping {
+    /// The damping ratio ξ at the two frequencies, in [0, 1).
+    #[serde(default)]
+    pub ratio: Option<f64>,
+    /// The two frequencies f1 < f2 [Hz] where the ratio is ξ.
+    #[serde(default)]
+    pub frequencies: Option<[f64; 2]>,
+    /// Instead of a ratio: a0 [1/s], the mass-proportional coefficient.
+    #[serde(default)]
+    pub mass_coefficient: Option<f64>,
+    /// Instead of a ratio: a1 [s], the stiffness-proportional coefficient.
+    #[serde(default)]
+    pub stiffness_coefficient: Option<f64>,
+}
+
+/// One direction's base acceleration: from a file (a PEER NGA `.AT2` record, or CSV rows `t, a`)
+/// or inline `samples`; linear between samples, zero after the last. The ground is at rest when
+/// the stage starts: an `.AT2` record's first sample is at t = DT, and a CSV or inline series
+/// starting at t = 0 must start with a = 0.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct BaseMotion {
+    /// `x` or `y`.
+    pub direction: Direction,
+    /// The record's file, relative to the model file: `.AT2` (PEER NGA) or CSV.
+    #[serde(default)]
+    pub file: Option<String>,
+    /// Instead of a file: rows `[t, a]`, t increasing from t ≥ 0.
+    #[serde(default, deserialize_with = "crate::model::rows::optional_pairs")]
+    pub samples: Option<Vec<[f64; 2]>>,
+    /// The accelerations' unit: `g` (an `.AT2` record's, its default) or `m/s2` (required for a
+    /// CSV file or inline samples).
+    #[serde(default)]
+    pub unit: Option<AccelerationUnit>,
+    /// A factor on the record. Default 1.
+    #[serde(default = "one")]
+    pub scale: f64,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+pub enum AccelerationUnit {
+    /// The standard acceleration of gravity, 9.80665 m/s².
+    #[serde(rename = "g")]
+    G,
+    #[serde(rename = "m/s2")]
+    MetrePerSecondSquared,
 }
 
 /// The compaction of a lift: a vertical pressure on its surface, applied then removed.
@@ -807,6 +896,7 @@ impl Default for Stage {
             strength_reduction: None,
             freeze_normal_stress: None,
             compaction: None,
+            dynamic: None,
         }
     }
 }

@@ -2,6 +2,7 @@
 //! history that the analysis runs on.
 
 pub mod file;
+pub mod ground_motion;
 pub mod import;
 mod parse;
 pub mod problems;
@@ -147,6 +148,26 @@ pub struct StagePlan {
     pub strength_reduction: Option<StrengthReduction>,
     /// The stage's own `freeze_normal_stress`, if it sets one.
     pub freeze_normal_stress: Option<bool>,
+    /// Time steps under a base motion instead of a loading.
+    pub dynamic: Option<DynamicPlan>,
+}
+
+/// A checked dynamic stage (docs/dynamics.md).
+#[derive(Debug, Clone, PartialEq)]
+pub struct DynamicPlan {
+    /// Δt [s].
+    pub time_step: f64,
+    /// [s]
+    pub duration: f64,
+    /// HHT-α's α, in [−1/3, 0].
+    pub alpha: f64,
+    /// Rayleigh's a0 [1/s] and a1 [s]: C = a0·M + a1·K.
+    pub rayleigh: [f64; 2],
+    pub lumping: crate::element::mass::Lumping,
+    /// The base acceleration in each direction given [length/s²].
+    pub base_motion: Vec<(Direction, ground_motion::GroundMotion)>,
+    /// g [length/s²]: a soil's density is its unit weight over it.
+    pub gravity: f64,
 }
 
 /// A checked strength-reduction stage.

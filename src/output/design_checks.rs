@@ -52,13 +52,16 @@ pub(super) fn write_files(
             c.pullout.pullout_factor,
             c.pullout.resistance,
             c.pullout.factored_resistance,
-            c.pullout_ratio_fe(),
-            c.pullout_ratio_simplified(),
-            c.pullout_cdr()
+            finite_or_blank(c.pullout_ratio_fe()),
+            finite_or_blank(c.pullout_ratio_simplified()),
+            finite_or_blank(c.pullout_cdr())
         );
     }
     folder.write("design-checks.csv", csv.as_bytes())?;
-    let series = |value: &dyn Fn(&LayerCheck) -> f64| checks.iter().map(|c| (c.layer.depth, value(c))).collect();
+    // a ratio over a layer with no load is left out (the report says "no tension")
+    let series = |value: &dyn Fn(&LayerCheck) -> f64| {
+        checks.iter().map(|c| (c.layer.depth, value(c))).filter(|(_, v)| v.is_finite()).collect()
+    };
     let depth = format!("depth below the crest [{l}]");
     let panels = [
         Panel {
@@ -90,6 +93,16 @@ pub(super) fn write_files(
         "Each layer's largest tension by the analysis and by the Simplified Method, and its pull-out resistance over those loads"
             .into(),
     ))
+}
+
+/// A ratio as the CSV writes it: blank where its load is zero (no tension in the layer, or no
+/// step completed), not "inf".
+fn finite_or_blank(ratio: f64) -> String {
+    if ratio.is_finite() {
+        ratio.to_string()
+    } else {
+        String::new()
+    }
 }
 
 /// The report's section: the wall as the methods see it, and the table of the layers.

@@ -64,5 +64,5 @@ impl Events {
 
 /// How the events name a step.
 pub(super) fn when(record: &StepRecord) -> String {
-    format!("stage \"{}\" step {} (load factor {:.4})", record.stage, record.step, record.load_factor)
+    format!("stage \"{}\" step {} ({})", record.stage, record.step, record.position())
 }

@@ -371,6 +371,7 @@ mod tests {
             stresses,
             reaction_vector: vec![],
             displacement_vector: vec![],
+            motion: None,
         };
         let g = layout.soil(&r, &[]);
         assert_eq!(g.present, vec![0, 1]);

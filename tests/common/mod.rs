@@ -1,6 +1,7 @@
 //! Helpers shared by the integration tests.
 #![allow(dead_code)]
 
+pub mod dynamics;
 pub mod law_curve;
 pub mod restart;
 pub mod slip;

@@ -147,6 +147,7 @@ fn step_record(
         stage_index: stage.index,
         step: at.step,
         load_factor: at.load_factor,
+        time: state.motion.as_ref().map(|m| m.time),
         strength_factor: at.strength_factor,
         reversal: at.reversal,
         iterations: report.iterations,

@@ -4,17 +4,19 @@
 //! factors still to reach) is one value, [`StageProgress`], which a saved step keeps as it is.
 
 mod complete;
+mod cutback;
+mod dynamic;
 mod placement;
 pub(in crate::analysis) mod progress;
 
 pub use complete::complete_increment;
+pub use dynamic::time_steps;
 pub use progress::{Increment, Stage, StageProgress};
 
 use placement::{unbalance, Placement};
 
 use super::checkpoint::{Checkpoint, ModelPrint};
 use super::context::Context;
-use super::equilibrium::{self, EmbeddedSigmaN};
 use super::loads::external_force;
 use super::predictor::{self, LastIncrement};
 use super::sink::StepSink;
@@ -150,26 +152,11 @@ pub fn increments(
         if let Some(last) = progress.last.as_ref().filter(|_| extrapolate) {
             predictor::extrapolate(state, &stage.dofs, last, target);
         }
-        let report = match equilibrium::increment(cx, &stage.dofs, state, EmbeddedSigmaN::Settled) {
-            Ok(report) => report,
-            Err(e) => {
-                let progress = &mut stage.progress;
-                if e.retryable() && progress.cutbacks < cx.options.analysis.max_cutbacks {
-                    *state = snapshot;
-                    progress.targets.insert(0, 0.5 * (progress.reached + target));
-                    progress.cutbacks += 1;
-                    continue;
-                }
-                return Err(e.at(&model.source, &plan.name, stage.step + 1, progress.cutbacks));
-            }
-        };
+        let Some(report) = cutback::solved_or_cut_back(cx, stage, state, &snapshot, target)? else { continue };
         stage.step += 1;
         // a step of the plan (not a cutback's midpoint): count it, and whether the history reverses
         let progress = &mut stage.progress;
-        let planned_step = plan.load_factors.get(progress.planned) == Some(&target);
-        if planned_step {
-            progress.planned += 1;
-        }
+        let planned_step = progress.count_planned(&plan.load_factors, target);
         let reversal = planned_step && plan.reversals.contains(&progress.planned);
         let at = Increment {
             step: stage.step,
@@ -189,11 +176,7 @@ pub fn increments(
                 to: target,
             });
         }
-        progress.targets.remove(0);
-        progress.reached = target;
-        if planned_step {
-            progress.cutbacks = 0;
-        }
+        progress.reach(target, planned_step);
         if let Some(print) = &print {
             let saving = Instant::now();
             let saved = sink.checkpoint(Checkpoint {

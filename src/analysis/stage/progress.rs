@@ -50,3 +50,36 @@ pub struct StageProgress {
     /// The stage's last converged increment (what `extrapolation = "linear"` carries on).
     pub last: Option<LastIncrement>,
 }
+
+impl StageProgress {
+    /// Halve the increment to `target`, its midpoint put in front, when fewer than `max` cutbacks
+    /// were made; whether it was.
+    pub fn cut_back(&mut self, target: f64, max: usize) -> bool {
+        if self.cutbacks >= max {
+            return false;
+        }
+        self.targets.insert(0, 0.5 * (self.reached + target));
+        self.cutbacks += 1;
+        true
+    }
+
+    /// Whether `target` is the plan's next step (`planned`: the plan's factors), not a cutback's
+    /// midpoint; counted if it is.
+    pub fn count_planned(&mut self, planned: &[f64], target: f64) -> bool {
+        let is = planned.get(self.planned) == Some(&target);
+        if is {
+            self.planned += 1;
+        }
+        is
+    }
+
+    /// The increment to `target` has converged (`planned`: a step of the plan, which ends its
+    /// cutbacks).
+    pub fn reach(&mut self, target: f64, planned: bool) {
+        self.targets.remove(0);
+        self.reached = target;
+        if planned {
+            self.cutbacks = 0;
+        }
+    }
+}

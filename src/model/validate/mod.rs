@@ -6,6 +6,7 @@
 //! built to the [`Draft`] and its problems to the list; the model exists only when there are none.
 
 mod design;
+pub mod dynamic;
 mod free_bodies;
 mod interfaces;
 mod materials;
@@ -65,7 +66,7 @@ pub(super) fn validate(source: &Path, file: &ModelFile) -> Result<Model, ModelEr
     timed("model: supports, element sets, stages", &mut |d, p| {
         targets::supports(d, file, p);
         sets::element_sets(d, file, p);
-        stages::stages(d, file, p);
+        stages::stages(d, file, source, p);
         analysis_settings(file, p);
     });
     timed("model: every body held", &mut |d, p| {

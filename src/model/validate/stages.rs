@@ -1,7 +1,7 @@
 //! Stages: load factors, loads, prescribed displacements, soil and reinforcement placed and
 //! removed, water, initial stresses and strength reduction.
 
-use super::Draft;
+use super::{dynamic, Draft};
 use crate::model::file::*;
 use crate::model::problems::Problems;
 use crate::model::{Load, Model, StagePlan, StrengthReduction, WaterTable};
@@ -13,8 +13,8 @@ struct At {
     entity: String,
 }
 
-/// Every stage, in order.
-pub(super) fn stages(d: &mut Draft, file: &ModelFile, p: &mut Problems) {
+/// Every stage, in order (`source`: the model file, whose folder a record file is read from).
+pub(super) fn stages(d: &mut Draft, file: &ModelFile, source: &std::path::Path, p: &mut Problems) {
     let water_weight = Model::default_water_weight(&file.units);
 
     if file.stages.is_empty() {
@@ -33,12 +33,14 @@ pub(super) fn stages(d: &mut Draft, file: &ModelFile, p: &mut Problems) {
         if !stage_names.insert(s.name.clone()) {
             p.push(format!("{field}.name"), entity, "duplicate stage name");
         }
-        let from_history = s.history.as_ref().map(|h| history(h, s, &at, p));
-        let (lf, reversals) = match &from_history {
-            Some(Some((factors, reversals))) => (factors, reversals.clone()),
+        let dynamic = s.dynamic.as_ref().map(|spec| dynamic::dynamic(spec, s, source, &file.units, field, entity, p));
+        let from_history = s.history.as_ref().filter(|_| s.dynamic.is_none()).map(|h| history(h, s, &at, p));
+        let (lf, reversals) = match (&from_history, &dynamic) {
+            (Some(Some((factors, reversals))), _) => (factors, reversals.clone()),
+            (_, Some(Some((_, factors)))) => (factors, Vec::new()),
             _ => (&s.load_factors, Vec::new()),
         };
-        if from_history.is_none() {
+        if from_history.is_none() && s.dynamic.is_none() {
             // (a history's factors were checked with it)
             load_factors(lf, &format!("{field}.load_factors"), entity, p);
         }
@@ -76,6 +78,7 @@ pub(super) fn stages(d: &mut Draft, file: &ModelFile, p: &mut Problems) {
             k0: s.initial_stress == Some(InitialStress::K0),
             water,
             freeze_normal_stress: s.freeze_normal_stress,
+            dynamic: dynamic.and_then(|d| d.map(|(plan, _)| plan)),
         });
     }
     compaction(d, file, &mut stage_names, p);

@@ -1,0 +1,85 @@
+//! One soil element in simple shear as a single-degree-of-freedom oscillator: its free vibration
+//! after a base pulse, integrated by the trapezoidal rule (HHT with α = 0).
+//!
+//! Reference: docs/verification.md §15.1. A 1 m × 1 m quad4 element, every y held, the base
+//! fixed: its top moves as one DOF with k = G·w/h, m = ρ·w·h/4 per top node lumped (ω² = 2G/(ρh²))
+//! or 6·ρwh/36 consistent (ω² = 3G/(ρh²)); damping c/m = a0 + a1·ω². The trapezoidal rule's
+//! free response obeys x_{n+1} = b1·x_n + b2·x_{n−1} exactly, with (Hughes 1987, §9.3; from the
+//! eigenvalues (1 + hμ/2)/(1 − hμ/2) of the rule, μ the roots of μ² + 2ξωμ + ω² = 0):
+//!
+//! b1 = (2 − Ω²/2)/(1 + ξΩ + Ω²/4),   b2 = −(1 − ξΩ + Ω²/4)/(1 + ξΩ + Ω²/4),   Ω = ω·h.
+//!
+//! So the period (b1 = 2 cos ω̄h when ξ = 0) and the decay (−b2 = e^(−2ξ̄ω̄h)) measured from the run
+//! check the mass, the damping and the integration together, to round-off. Goal: b1 and b2 within
+//! 1e-11 on every backend (measured: 6e-14).
+
+mod common;
+
+use geoslip::linsol::Backend;
+use geoslip::model::file::*;
+
+const G: f64 = 10_000.0;
+const RHO: f64 = 2.0;
+const DT: f64 = 0.002;
+
+fn oscillator(mass: Lumping, damping: Option<RayleighDamping>) -> ModelFile {
+    // a triangular pulse, then free vibration
+    let pulse = vec![[0.0, 0.0], [0.01, 1.0], [0.02, 0.0]];
+    let shaking = common::dynamics::shaking_in_x(DT, 0.3, 0.0, damping, mass, pulse);
+    common::dynamics::shear_column(1.0, 1.0, 1, G, RHO, shaking, 1e-12)
+}
+
+/// The least-squares b1, b2 of the top's free response (after the pulse).
+fn recurrence(model: &geoslip::model::Model, backend: Backend) -> (f64, f64) {
+    let c = common::run(model, backend);
+    let top = model.mesh.nodes.iter().position(|n| n.x == [1.0, 1.0]).unwrap();
+    let x: Vec<f64> = c.steps.iter().map(|(_, r)| r.displacement_vector[2 * top]).collect();
+    let times: Vec<f64> = c.steps.iter().map(|(rec, _)| rec.time.unwrap()).collect();
+    assert!((times[0] - DT).abs() < 1e-15 && (times[times.len() - 1] - 0.3).abs() < 1e-12, "{times:?}");
+    // the normal equations of x[n+1] = b1·x[n] + b2·x[n−1] over the free response
+    let first = (0.02 / DT).round() as usize + 1;
+    let (mut s11, mut s12, mut s22, mut r1, mut r2) = (0.0, 0.0, 0.0, 0.0, 0.0);
+    for n in first..x.len() - 1 {
+        let (a, b, y) = (x[n], x[n - 1], x[n + 1]);
+        s11 += a * a;
+        s12 += a * b;
+        s22 += b * b;
+        r1 += a * y;
+        r2 += b * y;
+    }
+    let det = s11 * s22 - s12 * s12;
+    ((r1 * s22 - r2 * s12) / det, (s11 * r2 - s12 * r1) / det)
+}
+
+fn check(mass: Lumping, omega: f64, damping: Option<RayleighDamping>, xi: f64) {
+    let model = common::model(&oscillator(mass, damping), "shear-oscillator.toml");
+    let w = omega * DT;
+    let denominator = 1.0 + xi * w + w * w / 4.0;
+    let b1 = (2.0 - w * w / 2.0) / denominator;
+    let b2 = -(1.0 - xi * w + w * w / 4.0) / denominator;
+    for backend in Backend::available() {
+        let (m1, m2) = recurrence(&model, backend);
+        assert!((m1 - b1).abs() < 1e-11, "{mass:?} ξ={xi} {backend:?}: b1 = {m1}, expected {b1}");
+        assert!((m2 - b2).abs() < 1e-11, "{mass:?} ξ={xi} {backend:?}: b2 = {m2}, expected {b2}");
+    }
+}
+
+#[test]
+fn lumped_mass_vibrates_at_the_trapezoidal_rules_period() {
+    check(Lumping::Lumped, (2.0 * G / RHO).sqrt(), None, 0.0);
+}
+
+#[test]
+fn consistent_mass_vibrates_at_the_trapezoidal_rules_period() {
+    check(Lumping::Consistent, (3.0 * G / RHO).sqrt(), None, 0.0);
+}
+
+/// Rayleigh damping with both coefficients: c/m = a0 + a1·ω² gives ξ = (a0 + a1ω²)/(2ω).
+#[test]
+fn rayleigh_damping_decays_at_its_ratio() {
+    let omega = (2.0 * G / RHO).sqrt();
+    let (a0, a1) = (4.0, 0.0006);
+    let damping =
+        RayleighDamping { ratio: None, frequencies: None, mass_coefficient: Some(a0), stiffness_coefficient: Some(a1) };
+    check(Lumping::Lumped, omega, Some(damping), (a0 + a1 * omega * omega) / (2.0 * omega));
+}
