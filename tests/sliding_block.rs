@@ -9,7 +9,9 @@
 //! plane, κ = cos(φ − β)/cos φ. Under a rectangular pulse of A > a_y lasting t0 the permanent slip
 //! is d = ½·κ·(A − a_y)·t0²·A/a_y; under a half-sine pulse it is the same equation integrated
 //! here, in the test's own code, on a step a hundred times finer than the run's. Below a_y the
-//! block does not slide.
+//! block does not slide. The pseudo-static method gives the same a_y: under the weight times kh
+//! towards the foot, FS = tan φ·(cos β − kh·sin β)/(sin β + kh·cos β), which is 1 at
+//! kh = tan(φ − β).
 //!
 //! The model: a 1 m × 0.25 m block of 4 × 2 quad4 elements (low enough that its base stays in
 //! contact), E = 1 GPa, γ = 20 kN/m³, on a rigid base; the interface Coulomb with c = 0, φ = 30°,
@@ -207,4 +209,84 @@ fn below_the_yield_acceleration_the_block_does_not_slide() {
         let slip = permanent_slip(beta, rectangle(-0.8 * yield_acceleration(beta), 0.1), Backend::Faer);
         assert!(slip.abs() < 5e-6, "β = {beta}°: slip {slip} m under 0.8·a_y");
     }
+}
+
+/// The pseudo-static method on the block at β = 10°: its weight times kh towards the slope's foot,
+/// then the factor of safety by strength reduction of the interface; for the rigid block
+/// FS = tan φ·(cos β − kh·sin β)/(sin β + kh·cos β), which is 1 at kh = tan(φ − β), Newmark's
+/// yield coefficient.
+#[test]
+fn a_pseudo_static_force_gives_the_factor_of_safety_of_the_block_on_the_slope() {
+    let beta = 10.0f64;
+    for kh in [0.0, 0.1, 0.2] {
+        let mut file = block_on_shaking_base(beta, vec![[0.0, 0.0], [0.1, 0.0]]);
+        file.stages.truncate(1);
+        file.stages.push(Stage {
+            name: "pseudo-static".into(),
+            loads: vec![LoadSpec::PseudoStatic { kh, kv: 0.0 }],
+            ..Default::default()
+        });
+        file.stages.push(Stage {
+            name: "factor of safety".into(),
+            strength_reduction: Some(StrengthReductionSpec {
+                reduce: ReducedStrengths::Interfaces,
+                tolerance: Some(1e-5),
+                max_factor: Some(5.0),
+            }),
+            ..Default::default()
+        });
+        let model = common::model(&file, "sliding-block-pseudo-static.toml");
+        let c = common::run(&model, Backend::Faer);
+        let fs = c.factors_of_safety[0].value;
+        let (b, phi) = (beta.to_radians(), PHI.to_radians());
+        let exact = phi.tan() * (b.cos() - kh * b.sin()) / (b.sin() + kh * b.cos());
+        assert!((fs - exact).abs() < 3e-5 * exact, "kh = {kh}: FS = {fs}, the closed form {exact}");
+    }
+    let ky = (PHI - beta).to_radians().tan();
+    assert!((yield_acceleration(beta) / G - ky).abs() < 1e-15);
+}
+
+/// The results as a user reads them: `motion.csv` records the block at every step, and the report
+/// states the interface's permanent slip, which is Newmark's (the interface's slip counts towards
+/// the slave line's first node, here −x: the block's slip under a pulse towards +x).
+#[test]
+fn the_report_and_motion_csv_state_the_permanent_slip() {
+    let a_y = yield_acceleration(0.0);
+    let (a, t0) = (1.5 * a_y, 0.1);
+    let exact = 0.5 * (a - a_y) * t0 * t0 * a / a_y;
+    let mut file = block_on_shaking_base(0.0, rectangle(a, t0));
+    let top = Block::new(SolidKind::Quad4, (0.0, 0.0), (1.0, 0.25), (4, 2), "soil", 1, 1).row_nodes(2);
+    file.node_sets.insert("top".into(), top);
+    if let Some(dynamic) = file.stages[1].dynamic.as_mut() {
+        dynamic.record = vec!["top".into()];
+    }
+    let model = common::model(&file, "sliding-block.toml");
+    let out = std::env::temp_dir().join(format!("geoslip-sliding-block-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&out);
+    let mut quiet = geoslip::analysis::Collect::default();
+    geoslip::output::run_and_write(&model, &out, &Default::default(), &mut quiet).unwrap();
+    let csv = std::fs::read_to_string(out.join("motion.csv")).unwrap();
+    let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+    let column =
+        |name: &str| header.iter().position(|h| h.starts_with(name)).unwrap_or_else(|| panic!("{name}: {header:?}"));
+    let rows: Vec<Vec<f64>> =
+        csv.lines().skip(1).map(|l| l.split(',').skip(1).map(|c| c.parse().unwrap()).collect()).collect();
+    let (time, slip, top_a) = (column("time") - 1, column("base mean slip") - 1, column("top ax absolute") - 1);
+    // a row per time step (a step cut back adds its midpoints), time rising to the duration
+    assert!(rows.len() >= (DURATION / DT).round() as usize, "{} rows", rows.len());
+    assert!(rows.windows(2).all(|w| w[1][time] > w[0][time]));
+    assert!((rows[rows.len() - 1][time] - DURATION).abs() < 1e-12);
+    // the block's top rides with it: once it has stopped sliding, its absolute acceleration is the base's
+    let last = rows.last().unwrap();
+    assert!(last[top_a].abs() < 0.05 * a_y, "the top's acceleration at the end: {}", last[top_a]);
+    // (the weight alone does not slide it: the slip before the shaking is zero)
+    let permanent = last[slip];
+    assert!((permanent - exact).abs() < 5e-3 * exact, "motion.csv: slip {permanent} m, Newmark {exact} m");
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    let shaking = report.split("## Shaking").nth(1).expect("the report's Shaking section");
+    let line = shaking.lines().find(|l| l.starts_with("| base |")).expect("the interface's row in the report");
+    let stated: f64 = line.split('|').nth(3).unwrap().trim().parse().unwrap();
+    assert!((stated - exact).abs() < 5e-3 * exact, "the report: slip {stated} m, Newmark {exact} m\n{line}");
+    assert!(out.join("motion.png").is_file());
+    let _ = std::fs::remove_dir_all(&out);
 }

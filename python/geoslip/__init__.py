@@ -78,10 +78,14 @@ class Results:
     ``completed``, and for a model with a ``[design]`` table ``design_checks`` (per layer, from the
     top: ``layer`` names and NumPy arrays of design-checks.csv's columns, keyed by their names
     without units, for example ``"T_max analysis"``, ``"T_max simplified"``, ``"CDR pull-out"``;
-    docs/design-checks.md), else None."""
+    docs/design-checks.md), else None; for a model with dynamic stages ``motion`` (per time step:
+    ``stage`` names and NumPy arrays of motion.csv's columns keyed by their names without units, for
+    example ``"time"``, ``"ground ax"``, ``"crest ax absolute"``, ``"liner mean slip"``;
+    docs/dynamics.md), else None."""
 
     def __init__(self, raw):
         self.design_checks = _design_checks(raw.get("design_checks_csv"))
+        self.motion = _columns(raw.get("motion_csv"), "stage")
         self.history = raw["history"]
         self.steps = raw["steps"]
         self.factors_of_safety = raw.get("factors_of_safety", [])
@@ -126,27 +130,35 @@ class Results:
                 steps.append(_read_step_csv(_os.path.join(folder, stage_dir, step_dir)))
         raw = {"history": history, "steps": steps, "summary_json": summary,
                "completed": _json.loads(summary).get("status") == "completed"}
-        path = _os.path.join(folder, "design-checks.csv")
-        if _os.path.exists(path):
-            with open(path) as f:
-                raw["design_checks_csv"] = f.read()
+        for name, key in (("design-checks.csv", "design_checks_csv"), ("motion.csv", "motion_csv")):
+            path = _os.path.join(folder, name)
+            if _os.path.exists(path):
+                with open(path) as f:
+                    raw[key] = f.read()
         return Results(raw)
 
 
 def _design_checks(text):
     """design-checks.csv as ``layer`` (names) and a NumPy array per column, keyed by its name
     without the unit."""
+    return _columns(text, "layer")
+
+
+def _columns(text, first):
+    """A CSV file whose first column holds names (``first``) and the others numbers: the names as a
+    list, each other column as a NumPy array (a blank cell as NaN), keyed by its header without the
+    unit; None without the file."""
     if not text:
         return None
     reader = _csv.reader(text.splitlines())
     header = next(reader)
     rows = list(reader)
-    checks = {}
+    table = {}
     for k, name in enumerate(header):
         key = name.split(" [")[0]
         column = [r[k] for r in rows]
-        checks[key] = column if k == 0 else _np.array([float(v) for v in column])
-    return checks
+        table[key] = column if k == 0 else _np.array([float(v) if v != "" else _np.nan for v in column])
+    return table
 
 
 def _read_table(path):

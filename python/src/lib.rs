@@ -138,6 +138,10 @@ impl Model {
         if let Ok(checks) = std::fs::read_to_string(folder.join("design-checks.csv")) {
             results.bind(py).set_item("design_checks_csv", checks)?;
         }
+        // the dynamic stages' histories (docs/dynamics.md), when the model has any
+        if let Ok(motion) = std::fs::read_to_string(folder.join("motion.csv")) {
+            results.bind(py).set_item("motion_csv", motion)?;
+        }
         match (result, observer.stop) {
             (Ok(_), _) => Ok(results),
             (Err(_), Some(stop)) => {

@@ -163,6 +163,28 @@ def test_a_compacted_lift_from_a_dict_runs_its_compaction_stages(tmp_path):
     assert stages == cli_stages and run.completed
 
 
+def test_a_dynamic_stage_from_a_dict_gives_the_cli_motion_as_arrays(tmp_path):
+    # tests/fuzz-seeds/shaken-block.toml: a block shaken by an inline base motion, then loaded
+    # statically (docs/dynamics.md), from a dict and by the CLI
+    seed = ROOT / "tests" / "fuzz-seeds" / "shaken-block.toml"
+    data = tomllib.loads(seed.read_text())
+    assert data["stages"][1]["dynamic"]["record"] == ["crest"]
+    out = tmp_path / "cli"
+    subprocess.run([cli(), "run", "-q", "--solver", "faer", "--out", str(out), str(seed)], check=True)
+    run = geoslip.Model.from_dict(data, name="shaken.json").run(solver="faer")
+    folder = geoslip.Results.open(out)
+    motion = run.motion
+    assert motion["stage"] == folder.motion["stage"] == ["shaking"] * 4
+    assert np.allclose(motion["time"], [0.05, 0.1, 0.15, 0.2])
+    for key in ("ground ax", "crest ux relative", "crest ax absolute", "liner mean slip"):
+        assert_same(folder.motion[key], motion[key], key)
+    # the base's acceleration is the record's, 0.4 g at 0.05 s and -0.4 g at 0.1 s
+    assert np.allclose(motion["ground ax"][:2], [0.4 * 9.80665, -0.4 * 9.80665])
+    times = [s.get("time") for s in run.summary["steps"]]
+    assert times[0] is None and times[1:5] == pytest.approx([0.05, 0.1, 0.15, 0.2]) and times[5] is None
+    assert geoslip.Model.load(PAPER).run(solver="faer").motion is None
+
+
 def test_a_bad_model_raises_with_the_field_path():
     data = tomllib.loads(PAPER.read_text())
     data["materials"]["soil"]["soil"]["youngs_modulus"] = -5.0

@@ -2,8 +2,8 @@
 
 use crate::model::{Load, Model};
 
-/// Consistent nodal forces of a list of loads (full load, factor 1), but for gravity, whose force
-/// comes from `soil::weight`.
+/// Consistent nodal forces of a list of loads (full load, factor 1), but for gravity and the
+/// pseudo-static force, which come from `soil::body_force`.
 pub fn external_force(model: &Model, loads: &[Load]) -> Vec<f64> {
     use crate::element::solid;
     let mesh = &model.mesh;
@@ -16,7 +16,7 @@ pub fn external_force(model: &Model, loads: &[Load]) -> Vec<f64> {
             }
             // the soil's weight depends on which soil is present and where the water is: see
             // `soil::weight`
-            Load::Gravity { .. } => {}
+            Load::Gravity { .. } | Load::PseudoStatic { .. } => {}
             Load::EdgeTraction { sides, pressure, shear } => {
                 for side in sides {
                     let e = &mesh.solids[side.solid];

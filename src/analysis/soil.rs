@@ -293,9 +293,15 @@ pub fn masses(
 
 /// Consistent nodal forces of the weight (−y) of the present soil, times `factor`.
 pub fn weight(model: &Model, setup: &SoilSetup, field: &SoilField, factor: f64) -> Vec<f64> {
+    body_force(model, setup, field, [0.0, -factor])
+}
+
+/// Consistent nodal forces of the present soil's weight times `coefficients` (x, y): a body force
+/// γ·(kx, ky) (the weight is `[0, −1]`, a pseudo-static seismic force `[kh, kv]`).
+pub fn body_force(model: &Model, setup: &SoilSetup, field: &SoilField, coefficients: [f64; 2]) -> Vec<f64> {
     let mesh = &model.mesh;
     let mut f = vec![0.0; 2 * mesh.nodes.len()];
-    if factor == 0.0 {
+    if coefficients == [0.0, 0.0] {
         return f;
     }
     for (s, e) in mesh.solids.iter().enumerate() {
@@ -303,9 +309,12 @@ pub fn weight(model: &Model, setup: &SoilSetup, field: &SoilField, factor: f64) 
             continue;
         }
         for p in element_points(model, e, setup.rule) {
-            let g = factor * unit_weight(model, s, field.water.as_ref(), p.x);
+            let gamma = unit_weight(model, s, field.water.as_ref(), p.x);
+            // (in this order, the weight's forces are those of −(factor·γ)·N·w to the last bit)
+            let (gx, gy) = (coefficients[0] * gamma, coefficients[1] * gamma);
             for (i, &n) in e.nodes.iter().enumerate() {
-                f[2 * n + 1] -= p.n[i] * g * p.weight;
+                f[2 * n] += p.n[i] * gx * p.weight;
+                f[2 * n + 1] += p.n[i] * gy * p.weight;
             }
         }
     }

@@ -111,7 +111,8 @@ pub struct ContactFace {
     pub master: Vec<NodeIndex>,
     /// The master face's soil lies to the left of each master segment a → b.
     pub soil_on_left: bool,
-    /// For a master face with no soil element (a rigid base): the normal into the master side.
+    /// For a master face with no soil element (a rigid base): the normal the model gave, which
+    /// picked its side (`soil_on_left`); each segment's normal is its own all the same.
     pub fixed_normal: Option<[f64; 2]>,
     pub points: Vec<ContactPoint>,
     /// The shear law of this face's points (the faces of a stack of geosynthetics differ).
@@ -222,9 +223,6 @@ impl Interface {
 impl ContactFace {
     /// Unit normal into the master face's soil on segment `segment`, in the reference geometry.
     pub fn normal(&self, mesh: &Mesh, segment: usize) -> [f64; 2] {
-        if let Some(n) = self.fixed_normal {
-            return n;
-        }
         let (a, b) = (mesh.position(self.master[segment]), mesh.position(self.master[segment + 1]));
         let d = [b[0] - a[0], b[1] - a[1]];
         let len = (d[0] * d[0] + d[1] * d[1]).sqrt();

@@ -6,6 +6,41 @@ use super::{points_on, project, ContactFace, GeometryProblem, GeometryProblems, 
 use crate::mesh::{Mesh, NodeIndex, SideMap};
 use std::collections::HashMap;
 
+/// The side of a rigid master face that `normal` (a unit vector) points into: whether it is the left
+/// of each segment a → b. A segment whose own normal on that side is more than 60° from `normal`
+/// is a problem: the face is not the one the normal describes.
+fn rigid_side(mesh: &Mesh, master: &[NodeIndex], normal: [f64; 2], problems: &mut GeometryProblems) -> bool {
+    let left_normal = |k: usize| {
+        let (a, b) = (mesh.position(master[k]), mesh.position(master[k + 1]));
+        let d = [b[0] - a[0], b[1] - a[1]];
+        let len = d[0].hypot(d[1]);
+        [-d[1] / len, d[0] / len]
+    };
+    let first = left_normal(0);
+    let left = first[0] * normal[0] + first[1] * normal[1] >= 0.0;
+    for k in 0..master.len() - 1 {
+        let n = left_normal(k);
+        let cos = (n[0] * normal[0] + n[1] * normal[1]) * if left { 1.0 } else { -1.0 };
+        if !(cos >= 0.5) {
+            let side = if left { n } else { [-n[0], -n[1]] };
+            problems.push(
+                "master_normal",
+                format!(
+                    "master_normal [{:.4}, {:.4}] is {:.1}° from the normal [{:.4}, {:.4}] of the master segment {}–{} (at most 60°): give the normal into the master side of the face",
+                    normal[0],
+                    normal[1],
+                    cos.clamp(-1.0, 1.0).acos().to_degrees(),
+                    side[0],
+                    side[1],
+                    mesh.node_id(master[k]),
+                    mesh.node_id(master[k + 1])
+                ),
+            );
+        }
+    }
+    left
+}
+
 /// Associate a hand-made slave line with its master face.
 pub fn pair(
     mesh: &Mesh,
@@ -101,7 +136,10 @@ pub fn pair(
                 problems.push("master_normal", "master_normal must be a non-zero, finite vector");
                 None
             } else {
-                Some([n[0] / l, n[1] / l])
+                let n = [n[0] / l, n[1] / l];
+                // it picks the side; each segment's normal is its own, within 60° of it
+                soil_left = Some(rigid_side(mesh, &master, n, &mut problems));
+                Some(n)
             }
         }
         None => None,

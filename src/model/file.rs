@@ -741,6 +741,10 @@ pub struct DynamicSpec {
     /// supports, and the displacements are relative to it.
     #[serde(default)]
     pub base_motion: Vec<BaseMotion>,
+    /// Node sets whose mean displacement, velocity and acceleration `motion.csv` records at every
+    /// step.
+    #[serde(default)]
+    pub record: Vec<String>,
 }
 
 fn default_hht_alpha() -> f64 {
@@ -934,6 +938,15 @@ pub enum LoadSpec {
     Gravity {
         #[serde(default = "one")]
         factor: f64,
+    },
+    /// The pseudo-static force of an earthquake on the soil present in this stage: its weight
+    /// (each material's unit weight, saturated below the water table) times the seismic
+    /// coefficients kh (towards +x) and kv (towards +y), as a body force (docs/dynamics.md).
+    PseudoStatic {
+        #[serde(default)]
+        kh: f64,
+        #[serde(default)]
+        kv: f64,
     },
 }
 

@@ -115,9 +115,22 @@ pub struct LoadedSide {
 
 #[derive(Debug, Clone)]
 pub enum Load {
-    EdgeTraction { sides: Vec<LoadedSide>, pressure: f64, shear: f64 },
-    Point { node: NodeIndex, force: [f64; 2] },
-    Gravity { factor: f64 },
+    EdgeTraction {
+        sides: Vec<LoadedSide>,
+        pressure: f64,
+        shear: f64,
+    },
+    Point {
+        node: NodeIndex,
+        force: [f64; 2],
+    },
+    Gravity {
+        factor: f64,
+    },
+    /// The soil's weight times (kh, kv) as a body force.
+    PseudoStatic {
+        coefficients: [f64; 2],
+    },
 }
 
 #[derive(Debug, Clone, Default)]
@@ -168,6 +181,8 @@ pub struct DynamicPlan {
     pub base_motion: Vec<(Direction, ground_motion::GroundMotion)>,
     /// g [length/s²]: a soil's density is its unit weight over it.
     pub gravity: f64,
+    /// The node sets whose motion the results record.
+    pub record: Vec<String>,
 }
 
 /// A checked strength-reduction stage.

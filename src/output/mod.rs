@@ -25,6 +25,7 @@ pub mod grids;
 mod h5_arrays;
 pub mod history;
 pub mod kept_steps;
+mod motion;
 pub mod options;
 pub mod owned_folder;
 mod pace;

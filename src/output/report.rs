@@ -15,6 +15,12 @@ pub struct DesignSection<'a> {
 }
 
 /// The Markdown report of a run (finished or failed).
+/// The report's section on the dynamic stages: their histories and its figure.
+pub struct ShakingSection<'a> {
+    pub(super) history: &'a super::motion::MotionHistory,
+    pub(super) figure: Option<(String, String)>,
+}
+
 pub fn markdown(
     model: &Model,
     summary: &RunSummary,
@@ -22,10 +28,17 @@ pub fn markdown(
     units: &crate::model::UnitLabels,
     figures: &[(String, String)],
     design: Option<&DesignSection>,
+    shaking: Option<&ShakingSection>,
 ) -> String {
     let mut r = String::new();
     model_section(&mut r, model, summary, units);
     key_results(&mut r, summary, history, units, figures);
+    if let Some(s) = shaking {
+        s.history.report_section(&mut r, units);
+        if let Some((stem, caption)) = &s.figure {
+            figure(&mut r, stem, caption);
+        }
+    }
     if let Some(d) = design {
         super::design_checks::report_section(&mut r, d.wall, &d.checks, units);
         figure(&mut r, &d.figure.0, &d.figure.1);

@@ -16,6 +16,7 @@ use super::summary::{FieldFiles, RunSummary, TargetPeak, Unknowns};
 
 use super::history::{self, HistoryRow};
 use super::kept_steps::{HeldStep, HeldSteps};
+use super::motion::MotionHistory;
 use crate::analysis::results::StepResults;
 use crate::analysis::RunStats;
 use crate::analysis::{StepRecord, StepSink};
@@ -55,6 +56,8 @@ pub struct ResultWriter {
     marked_steps: Vec<usize>,
     /// Each reinforcement interface and its nodes.
     reinforcements: Vec<figures::ReinforcementNodes>,
+    /// The dynamic stages' histories, when the model has any.
+    motion: Option<MotionHistory>,
     /// The field files asked for.
     options: OutputOptions,
     /// The grids' fixed parts, for the `.vtu` and HDF5 files.
@@ -183,6 +186,7 @@ impl ResultWriter {
             layout,
             out: out.to_path_buf(),
             folder: folder.clone(),
+            motion: None,
             peak_reaction: vec![(0.0, false); targets.len()],
             peak_displacement: vec![0.0; targets.len()],
             targets,
@@ -245,6 +249,7 @@ impl ResultWriter {
             },
             units,
         };
+        writer.motion = MotionHistory::new(model, writer.reinforcements.iter().map(|r| r.name.clone()).collect());
         // at once, so that a run killed before its first step leaves a folder the next run
         // recognises as geoslip's (and clears)
         writer.write_summary()?;
@@ -383,7 +388,21 @@ impl ResultWriter {
             }
             None => None,
         };
-        let report = report::markdown(model, &self.summary, &self.history, &self.units, &figures, design.as_ref());
+        let shaking = match &self.motion {
+            Some(history) => {
+                Some(report::ShakingSection { history, figure: history.figure(&self.folder, &self.units)? })
+            }
+            None => None,
+        };
+        let report = report::markdown(
+            model,
+            &self.summary,
+            &self.history,
+            &self.units,
+            &figures,
+            design.as_ref(),
+            shaking.as_ref(),
+        );
         self.folder.write("report.md", report.as_bytes())?;
         // once more, with the time the writer took to the end
         self.summary.write_seconds += started.elapsed().as_secs_f64();
@@ -508,6 +527,10 @@ impl StepSink for ResultWriter {
             label: format!("{} step {}", record.stage, record.step),
             reinforcements: self.reinforcements.iter().map(|nodes| profile(nodes, results)).collect(),
         });
+        if let (Some(motion), Some(profile)) = (&mut self.motion, self.profiles.last()) {
+            let tensions = profile.reinforcements.iter().map(|p| p.largest_tension().map_or(0.0, |(t, _)| t)).collect();
+            motion.push(record, results, tensions);
+        }
         self.summary.steps.push(record.clone());
         self.summary.solver_stats = stats.clone();
 
@@ -568,6 +591,10 @@ impl ResultWriter {
         }
         let csv = history::csv(&self.history, &self.units);
         self.replace_file("history.csv", csv)?;
+        if let Some(motion) = &self.motion {
+            let csv = motion.csv(&self.units);
+            self.replace_file("motion.csv", csv)?;
+        }
         self.write_summary()
     }
 

@@ -30,6 +30,7 @@ pub fn shaking_in_x(
             unit: Some(AccelerationUnit::MetrePerSecondSquared),
             scale: 1.0,
         }],
+        record: Vec::new(),
     }
 }
 

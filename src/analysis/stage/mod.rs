@@ -71,6 +71,14 @@ pub fn set_up<'a>(cx: &mut Context, state: &mut State, plan: &'a StagePlan, inde
         *w += p;
     }
     let mut force = external_force(model, &plan.loads);
+    // the pseudo-static force of the soil present now
+    for load in &plan.loads {
+        if let Load::PseudoStatic { coefficients } = load {
+            for (f, b) in force.iter_mut().zip(soil::body_force(model, &cx.setup, &state.soil, *coefficients)) {
+                *f += b;
+            }
+        }
+    }
     for ((f, w), a) in force.iter_mut().zip(&weight).zip(&cx.applied_weight) {
         *f += w - a;
     }

@@ -14,6 +14,7 @@ pub const MAX_TIME_STEPS: usize = 1_000_000;
 /// The standard acceleration of gravity [m/s²].
 pub const STANDARD_GRAVITY: f64 = 9.80665;
 
+#[allow(clippy::too_many_arguments)]
 /// A dynamic stage's plan and its steps' factors (t/duration at each step); `None` with the
 /// problems pushed when it is not sound.
 pub(super) fn dynamic(
@@ -21,6 +22,7 @@ pub(super) fn dynamic(
     s: &Stage,
     source: &Path,
     units: &Units,
+    node_sets: &std::collections::BTreeMap<String, Vec<crate::mesh::NodeIndex>>,
     field: &str,
     entity: &str,
     p: &mut Problems,
@@ -80,6 +82,11 @@ pub(super) fn dynamic(
             base_motion.push((motion.direction, m));
         }
     }
+    for (k, name) in spec.record.iter().enumerate() {
+        if !node_sets.contains_key(name) {
+            p.push(format!("{dfield}.record[{k}]"), entity, format!("no node set \"{name}\""));
+        }
+    }
     if p.len() > before {
         return None;
     }
@@ -93,6 +100,7 @@ pub(super) fn dynamic(
         lumping: spec.mass,
         base_motion,
         gravity: STANDARD_GRAVITY * metre,
+        record: spec.record.clone(),
     };
     Some((plan, factors))
 }

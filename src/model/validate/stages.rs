@@ -33,7 +33,10 @@ pub(super) fn stages(d: &mut Draft, file: &ModelFile, source: &std::path::Path, 
         if !stage_names.insert(s.name.clone()) {
             p.push(format!("{field}.name"), entity, "duplicate stage name");
         }
-        let dynamic = s.dynamic.as_ref().map(|spec| dynamic::dynamic(spec, s, source, &file.units, field, entity, p));
+        let dynamic = s
+            .dynamic
+            .as_ref()
+            .map(|spec| dynamic::dynamic(spec, s, source, &file.units, &d.node_sets, field, entity, p));
         let from_history = s.history.as_ref().filter(|_| s.dynamic.is_none()).map(|h| history(h, s, &at, p));
         let (lf, reversals) = match (&from_history, &dynamic) {
             (Some(Some((factors, reversals))), _) => (factors, reversals.clone()),
@@ -259,6 +262,13 @@ fn loads(d: &Draft, s: &Stage, at: &At, p: &mut Problems) -> Vec<Load> {
                     p.push(&lfield, entity, "gravity is applied but every soil material has unit_weight 0");
                 }
                 loads.push(Load::Gravity { factor: *factor });
+            }
+            LoadSpec::PseudoStatic { kh, kv } => {
+                // beyond ±10 g no earthquake; the bound keeps the forces' arithmetic far from overflow
+                if !(kh.abs() <= 10.0 && kv.abs() <= 10.0) {
+                    p.push(&lfield, entity, format!("kh and kv must be within ±10, found kh = {kh}, kv = {kv}"));
+                }
+                loads.push(Load::PseudoStatic { coefficients: [*kh, *kv] });
             }
         }
     }
