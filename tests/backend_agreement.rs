@@ -7,7 +7,8 @@
 //! LU instead, which the dense reference checks on every smaller model), on yielding Mohr–Coulomb soil, and on the generated pull-out
 //! boxes of every element type, displacements,
 //! multipliers, reactions and bar forces agree to 1e-10 relative (displacements to the largest
-//! displacement, forces to the largest force of the step).
+//! displacement, forces to the largest force of the step); a dynamic stage's steps past its 100th
+//! to 1e-9 (`DYNAMIC_STEPS_AT_ROUND_OFF`).
 
 mod common;
 
@@ -36,9 +37,10 @@ fn assert_agree(name: &str, reference: &Collect, other: &Collect, backend: Backe
                 .chain(a.bar_forces.iter().map(|b| b.axial_force)),
         )
         .max(f64::MIN_POSITIVE);
+        let tolerance = if rec.time.is_some() && rec.step > DYNAMIC_STEPS_AT_ROUND_OFF { 1e-9 } else { 1e-10 };
         let compare = |label: &str, x: Vec<f64>, y: Vec<f64>, scale: f64| {
             let diff = max_abs(x.iter().zip(&y).map(|(p, q)| p - q));
-            assert!(diff <= 1e-10 * scale, "{what}: {label} differ by {diff:e} (scale {scale:e})");
+            assert!(diff <= tolerance * scale, "{what}: {label} differ by {diff:e} (scale {scale:e})");
         };
         let u_scale = max_abs(a.displacement_vector.iter().copied()).max(f64::MIN_POSITIVE);
         compare("displacements", a.displacement_vector.clone(), b.displacement_vector.clone(), u_scale);
@@ -110,6 +112,12 @@ fn every_example_runs_and_every_backend_agrees() {
         eprintln!("{}: {:.1} s", path.display(), started.elapsed().as_secs_f64());
     }
 }
+
+/// A dynamic stage's steps compared to round-off, 1e-10 (measured on the seismic liner: 1e-11).
+/// Past them, a stick–slip history carries the backends' round-off from step to step (where a
+/// point sticks again moves with the last bits of its slip velocity), and the steps agree to 1e-9
+/// (measured: 2e-10 over its 1600 steps).
+const DYNAMIC_STEPS_AT_ROUND_OFF: usize = 100;
 
 /// Examples larger than this are left to their own tests (the dense reference is O(n³)).
 const LARGEST_EXAMPLE_NODES: usize = 800;

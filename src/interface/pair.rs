@@ -14,6 +14,7 @@ fn rigid_side(mesh: &Mesh, master: &[NodeIndex], normal: [f64; 2], problems: &mu
         let (a, b) = (mesh.position(master[k]), mesh.position(master[k + 1]));
         let d = [b[0] - a[0], b[1] - a[1]];
         let len = d[0].hypot(d[1]);
+        // (a segment of no length has no normal: NaN, refused below)
         [-d[1] / len, d[0] / len]
     };
     let first = left_normal(0);
@@ -21,7 +22,16 @@ fn rigid_side(mesh: &Mesh, master: &[NodeIndex], normal: [f64; 2], problems: &mu
     for k in 0..master.len() - 1 {
         let n = left_normal(k);
         let cos = (n[0] * normal[0] + n[1] * normal[1]) * if left { 1.0 } else { -1.0 };
-        if !(cos >= 0.5) {
+        if cos.is_nan() {
+            problems.push(
+                format!("master[{k}..{}]", k + 1),
+                format!(
+                    "the master segment {}–{} has no length: its nodes are at the same place",
+                    mesh.node_id(master[k]),
+                    mesh.node_id(master[k + 1])
+                ),
+            );
+        } else if cos < 0.5 {
             let side = if left { n } else { [-n[0], -n[1]] };
             problems.push(
                 "master_normal",

@@ -14,9 +14,9 @@ pub const MAX_TIME_STEPS: usize = 1_000_000;
 /// The standard acceleration of gravity [m/s²].
 pub const STANDARD_GRAVITY: f64 = 9.80665;
 
-#[allow(clippy::too_many_arguments)]
 /// A dynamic stage's plan and its steps' factors (t/duration at each step); `None` with the
 /// problems pushed when it is not sound.
+#[allow(clippy::too_many_arguments)]
 pub(super) fn dynamic(
     spec: &DynamicSpec,
     s: &Stage,
