@@ -7,8 +7,8 @@
 //! LU instead, which the dense reference checks on every smaller model), on yielding Mohr–Coulomb soil, and on the generated pull-out
 //! boxes of every element type, displacements,
 //! multipliers, reactions and bar forces agree to 1e-10 relative (displacements to the largest
-//! displacement, forces to the largest force of the step); a dynamic stage's steps past its 100th
-//! to 1e-9 (`DYNAMIC_STEPS_AT_ROUND_OFF`).
+//! displacement, forces to the largest force of the step); from a dynamic stage's 100th step on, to
+//! 1e-6 (`DYNAMIC_STEPS_AT_ROUND_OFF`).
 
 mod common;
 
@@ -25,6 +25,8 @@ fn max_abs(v: impl Iterator<Item = f64>) -> f64 {
 
 fn assert_agree(name: &str, reference: &Collect, other: &Collect, backend: Backend) {
     assert_eq!(reference.steps.len(), other.steps.len());
+    // past a dynamic stage's first steps (and in the stages after it)
+    let mut shaken = false;
     for ((rec, a), (_, b)) in reference.steps.iter().zip(&other.steps) {
         let what = format!("{name}, stage \"{}\" step {}, {backend:?}", rec.stage, rec.step);
         // Forces share one scale (reactions, multipliers and bar forces are all force per width),
@@ -37,7 +39,8 @@ fn assert_agree(name: &str, reference: &Collect, other: &Collect, backend: Backe
                 .chain(a.bar_forces.iter().map(|b| b.axial_force)),
         )
         .max(f64::MIN_POSITIVE);
-        let tolerance = if rec.time.is_some() && rec.step > DYNAMIC_STEPS_AT_ROUND_OFF { 1e-9 } else { 1e-10 };
+        shaken |= rec.time.is_some() && rec.step > DYNAMIC_STEPS_AT_ROUND_OFF;
+        let tolerance = if shaken { 1e-6 } else { 1e-10 };
         let compare = |label: &str, x: Vec<f64>, y: Vec<f64>, scale: f64| {
             let diff = max_abs(x.iter().zip(&y).map(|(p, q)| p - q));
             assert!(diff <= tolerance * scale, "{what}: {label} differ by {diff:e} (scale {scale:e})");
@@ -114,9 +117,10 @@ fn every_example_runs_and_every_backend_agrees() {
 }
 
 /// A dynamic stage's steps compared to round-off, 1e-10 (measured on the seismic liner: 1e-11).
-/// Past them, a stick–slip history carries the backends' round-off from step to step (where a
-/// point sticks again moves with the last bits of its slip velocity), and the steps agree to 1e-9
-/// (measured: 2e-10 over its 1600 steps).
+/// From its 100th step on, and in the stages after it, 1e-6: a stick–slip history carries the
+/// backends' round-off from step to step (where a point sticks again moves with the last bits of
+/// its slip velocity, and a re-closing contact's impact multiplies it), measured on the seismic
+/// liner at 2e-9 in the displacements and 1.5e-7 in the multipliers and reactions.
 const DYNAMIC_STEPS_AT_ROUND_OFF: usize = 100;
 
 /// Examples larger than this are left to their own tests (the dense reference is O(n³)).

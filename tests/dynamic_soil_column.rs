@@ -108,3 +108,17 @@ fn amplification_follows_the_closed_form_through_a_sweep() {
         }
     }
 }
+
+/// Every step of the elastic column has the same matrix, K + c·M at a constant Δt: the run
+/// factorises it once, and each step costs the solves of its iterations (docs/dynamics.md).
+#[test]
+fn a_constant_time_step_factorises_once() {
+    let model = common::model(&column(f1()), "soil-column.toml");
+    let mut sink = geoslip::analysis::Collect::default();
+    let options = geoslip::analysis::RunOptions::for_model(&model, Backend::Faer);
+    let stats = geoslip::analysis::run(&model, &options, &mut sink).unwrap_or_else(|e| panic!("{e}"));
+    let steps = sink.steps.len();
+    assert_eq!(steps, (DURATION / DT).round() as usize);
+    assert_eq!(stats.solver.factorizations, 1, "{steps} steps");
+    assert!(stats.solver.solves >= steps, "{} solves for {steps} steps", stats.solver.solves);
+}

@@ -64,7 +64,7 @@ fn steps(
         let snapshot = state.clone();
         let start = state.motion.clone().expect("a dynamic stage carries its motion");
         let time = target * plan.duration;
-        let k = scheme.step(time - start.time);
+        let k = scheme.step(nominal_step(time - start.time, plan.time_step));
         let (mass, stiffness) = k.operator(plan.rayleigh);
         let inertia = cx.elements.inertia.as_mut().expect("the stage's masses are in place");
         (inertia.mass, inertia.stiffness) = (mass, stiffness);
@@ -103,4 +103,17 @@ fn steps(
         stage.progress.reach(target, planned_step);
     }
     Ok(())
+}
+
+/// The step `h` as the plan's Δt halved k times when it is that up to round-off: the times come
+/// from load factors (t/duration), whose last bits differ from step to step, and a step whose
+/// coefficients differed in their last bits would change the matrix and be factorised again.
+fn nominal_step(h: f64, dt: f64) -> f64 {
+    let halvings = (dt / h).log2().round();
+    let nominal = dt / halvings.exp2();
+    if halvings >= 0.0 && (h - nominal).abs() <= 1e-9 * nominal {
+        nominal
+    } else {
+        h
+    }
 }
