@@ -113,37 +113,53 @@ pub struct StepStart {
     pub constant: Vec<f64>,
 }
 
+/// The soil's mass and Rayleigh damping, as a step applies them: M·x and C·x = a0·M·x + a1·K·x.
+pub struct Soil<'a> {
+    pub elements: &'a ElementMatrices,
+    pub field: &'a SoilField,
+    pub masses: &'a [nalgebra::DMatrix<f64>],
+    /// Rayleigh's [a0, a1].
+    pub rayleigh: [f64; 2],
+}
+
+impl Soil<'_> {
+    /// M·(s·x + a0·w) + a1·K·w − c·r.
+    fn damped(&self, x: &[f64], s: f64, w: &[f64], c: f64, r: &[f64]) -> Vec<f64> {
+        let Soil { elements, field, masses, rayleigh } = *self;
+        let inertial: Vec<f64> = x.iter().zip(w).map(|(x, w)| s * x + rayleigh[0] * w).collect();
+        let mut f = mass_times(masses, &elements.blocks, field, &inertial);
+        if rayleigh[1] != 0.0 {
+            for (f, k) in f.iter_mut().zip(stiffness_times(&elements.blocks, field, w)) {
+                *f += rayleigh[1] * k;
+            }
+        }
+        for (f, r) in f.iter_mut().zip(r) {
+            *f -= c * r;
+        }
+        f
+    }
+}
+
 impl StepStart {
-    pub fn new(
-        elements: &ElementMatrices,
-        u0: &[f64],
-        soil: &SoilField,
-        motion: &Motion,
-        k: &StepCoefficients,
-        rayleigh: [f64; 2],
-        masses: &[nalgebra::DMatrix<f64>],
-    ) -> StepStart {
+    /// The step from `motion` at displacements `u0`.
+    pub fn new(soil: &Soil<'_>, u0: &[f64], motion: &Motion, k: &StepCoefficients) -> StepStart {
         let (v0, a0) = (&motion.velocity, &motion.acceleration);
         let p: Vec<f64> = (0..u0.len()).map(|i| -k.c0 * u0[i] - k.c2 * v0[i] - k.c3 * a0[i]).collect();
         let q: Vec<f64> = (0..u0.len()).map(|i| -k.c1 * u0[i] + k.c4 * v0[i] + k.c5 * a0[i]).collect();
         // h = M·p/(1 + α) + C·(q − α'·v₀) − α'·R(u₀), C = a0·M + a1·K
         let w: Vec<f64> = q.iter().zip(v0).map(|(q, v)| q - k.carried * v).collect();
-        let constant = damped(elements, soil, masses, rayleigh, &p, k.inertia_weight, &w, k.carried, &motion.residual);
+        let constant = soil.damped(&p, k.inertia_weight, &w, k.carried, &motion.residual);
         StepStart { p, q, constant }
     }
 
     /// The motion at the step's end, time `time` and ground acceleration `ground`, from its
     /// displacements `u1` and the motion at its start.
-    #[allow(clippy::too_many_arguments)]
     pub fn end(
         &self,
-        elements: &ElementMatrices,
+        soil: &Soil<'_>,
         u1: &[f64],
-        soil: &SoilField,
         start: &Motion,
         k: &StepCoefficients,
-        rayleigh: [f64; 2],
-        masses: &[nalgebra::DMatrix<f64>],
         time: f64,
         ground: [f64; 2],
     ) -> Motion {
@@ -151,35 +167,8 @@ impl StepStart {
         let velocity: Vec<f64> = u1.iter().zip(&self.q).map(|(u, q)| k.c1 * u + q).collect();
         // R(u₁) = −(M·a₁/(1 + α) + C·(v₁ − α'·v₀) − α'·R(u₀))
         let w: Vec<f64> = velocity.iter().zip(&start.velocity).map(|(v, v0)| v - k.carried * v0).collect();
-        let dynamic =
-            damped(elements, soil, masses, rayleigh, &acceleration, k.inertia_weight, &w, k.carried, &start.residual);
+        let dynamic = soil.damped(&acceleration, k.inertia_weight, &w, k.carried, &start.residual);
         let residual = dynamic.iter().map(|f| -f).collect();
         Motion { time, velocity, acceleration, ground, residual }
     }
-}
-
-/// M·(s·x + a0·w) + a1·K·w − c·r.
-#[allow(clippy::too_many_arguments)]
-fn damped(
-    elements: &ElementMatrices,
-    soil: &SoilField,
-    masses: &[nalgebra::DMatrix<f64>],
-    rayleigh: [f64; 2],
-    x: &[f64],
-    s: f64,
-    w: &[f64],
-    c: f64,
-    r: &[f64],
-) -> Vec<f64> {
-    let inertial: Vec<f64> = x.iter().zip(w).map(|(x, w)| s * x + rayleigh[0] * w).collect();
-    let mut f = mass_times(masses, &elements.blocks, soil, &inertial);
-    if rayleigh[1] != 0.0 {
-        for (f, k) in f.iter_mut().zip(stiffness_times(&elements.blocks, soil, w)) {
-            *f += rayleigh[1] * k;
-        }
-    }
-    for (f, r) in f.iter_mut().zip(r) {
-        *f -= c * r;
-    }
-    f
 }

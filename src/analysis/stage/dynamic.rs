@@ -9,7 +9,7 @@ use super::super::context::Context;
 use super::super::sink::StepSink;
 use super::super::soil;
 use super::super::state::State;
-use super::super::time_scheme::{Hht, Motion, StepStart};
+use super::super::time_scheme::{Hht, Motion, Soil, StepStart};
 use super::complete::complete_increment;
 use super::cutback::solved_or_cut_back;
 use super::progress::{Increment, Stage};
@@ -69,7 +69,8 @@ fn steps(
         let inertia = cx.elements.inertia.as_mut().expect("the stage's masses are in place");
         (inertia.mass, inertia.stiffness) = (mass, stiffness);
         let masses = &cx.elements.inertia.as_ref().expect("in place").masses;
-        let step_start = StepStart::new(&cx.elements, &state.u, &state.soil, &start, &k, plan.rayleigh, masses);
+        let soil = Soil { elements: &cx.elements, field: &state.soil, masses, rayleigh: plan.rayleigh };
+        let step_start = StepStart::new(&soil, &state.u, &start, &k);
         let mut ground = [0.0; 2];
         for (d, motion) in &plan.base_motion {
             ground[if *d == Direction::X { 0 } else { 1 }] = motion.at(time);
@@ -86,7 +87,8 @@ fn steps(
         }
         let Some(report) = solved_or_cut_back(cx, stage, state, &snapshot, target)? else { continue };
         let masses = &cx.elements.inertia.as_ref().expect("in place").masses;
-        let end = step_start.end(&cx.elements, &state.u, &state.soil, &start, &k, plan.rayleigh, masses, time, ground);
+        let soil = Soil { elements: &cx.elements, field: &state.soil, masses, rayleigh: plan.rayleigh };
+        let end = step_start.end(&soil, &state.u, &start, &k, time, ground);
         state.motion = Some(end);
         stage.step += 1;
         let progress = &mut stage.progress;
