@@ -392,6 +392,8 @@ fn seismic_liner() -> ModelFile {
                         scale: 1.0,
                     }],
                     record: vec!["crest".into(), "toe".into()],
+                    absorbing: Vec::new(),
+                    compliant_base: None,
                 }),
                 ..Default::default()
             },

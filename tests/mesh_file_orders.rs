@@ -276,7 +276,7 @@ fn check_variant(dir: &Path, name: &str, bytes: &[u8], g: &Grid) {
         .iter()
         .map(|s| {
             let solid = &m.solids[s.solid];
-            let side = solid.kind.sides()[s.side].clone();
+            let side = solid.kind.sides()[s.side];
             let (a, b) = (m.node_id(solid.nodes[side[0]]), m.node_id(solid.nodes[side[1]]));
             (a.min(b), a.max(b))
         })

@@ -37,6 +37,7 @@
 //! segment it now faces. Held DOFs (supports and prescribed displacements) are eliminated; their
 //! reactions come from the same residual.
 
+mod absorbing;
 pub mod checkpoint;
 mod context;
 mod convergence;

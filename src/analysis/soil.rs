@@ -262,7 +262,7 @@ pub fn water_on_boundary(model: &Model, field: &SoilField, interfaces: &[crate::
 }
 
 /// The unit weight at a point: saturated below the water table.
-fn unit_weight(model: &Model, solid: usize, water: Option<&WaterTable>, x: [f64; 2]) -> f64 {
+pub(super) fn unit_weight(model: &Model, solid: usize, water: Option<&WaterTable>, x: [f64; 2]) -> f64 {
     let m = model.soil(solid);
     match water {
         Some(w) if x[1] < w.level_at(x[0]) => m.saturated_weight(),

@@ -14,8 +14,10 @@
 //! divided by 1 + α, reads
 //!
 //! ```text
-//! R(u₁) + D·u₁ + h = 0,   D = (c0/(1 + α) + a0·c1)·M + a1·c1·K,
+//! R(u₁) + D·u₁ + h = 0,   D = (c0/(1 + α) + a0·c1)·M + c1·(a1·K + B),
 //! ```
+//!
+//! with C = a0·M + a1·K + B, Rayleigh's damping and the absorbing sides' dashpots B.
 //!
 //! with h made of the step's start alone. So a time step is a static increment with the extra
 //! linear stiffness D and a constant force −h: the interfaces' laws, release and re-association,
@@ -23,7 +25,7 @@
 //! step's end. R(u₀) is carried from the step before (zero where the stage starts from a static
 //! equilibrium).
 
-use crate::assembly::inertia::{mass_times, stiffness_times};
+use crate::assembly::inertia::{dashpots_times, mass_times, stiffness_times};
 use crate::assembly::ElementMatrices;
 use crate::element::soil_state::SoilField;
 
@@ -72,14 +74,15 @@ pub struct StepCoefficients {
 }
 
 impl StepCoefficients {
-    /// D's coefficients of M and of the elastic K, with Rayleigh's `[a0, a1]`.
-    pub fn operator(&self, rayleigh: [f64; 2]) -> (f64, f64) {
-        (self.c0 * self.inertia_weight + rayleigh[0] * self.c1, rayleigh[1] * self.c1)
+    /// D's coefficients of M, of the elastic K and of the dashpots B, with Rayleigh's `[a0, a1]`.
+    pub fn operator(&self, rayleigh: [f64; 2]) -> (f64, f64, f64) {
+        (self.c0 * self.inertia_weight + rayleigh[0] * self.c1, rayleigh[1] * self.c1, self.c1)
     }
 }
 
 /// What a dynamic stage carries from step to step: time, the velocities and accelerations
-/// relative to the base, the ground's acceleration, and the static residual R(u) at the step.
+/// (relative to a rigid base, or absolute over a compliant one), the ground's acceleration, and the
+/// static residual R(u) at the step.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Motion {
     /// [s] from the stage's start.
@@ -88,17 +91,21 @@ pub struct Motion {
     pub acceleration: Vec<f64>,
     /// The base's acceleration (x, y) at `time`.
     pub ground: [f64; 2],
+    /// The velocities and accelerations are relative to a rigid base (add `ground` for the
+    /// absolute acceleration); otherwise absolute (a compliant base).
+    pub relative: bool,
     pub residual: Vec<f64>,
 }
 
 impl Motion {
     /// At rest at the stage's start, in static equilibrium.
-    pub fn at_rest(dofs: usize) -> Motion {
+    pub fn at_rest(dofs: usize, relative: bool) -> Motion {
         Motion {
             time: 0.0,
             velocity: vec![0.0; dofs],
             acceleration: vec![0.0; dofs],
             ground: [0.0; 2],
+            relative,
             residual: vec![0.0; dofs],
         }
     }
@@ -113,24 +120,31 @@ pub struct StepStart {
     pub constant: Vec<f64>,
 }
 
-/// The soil's mass and Rayleigh damping, as a step applies them: M·x and C·x = a0·M·x + a1·K·x.
+/// The soil's mass and damping, as a step applies them: M·x and C·x = a0·M·x + a1·K·x + B·x.
 pub struct Soil<'a> {
     pub elements: &'a ElementMatrices,
     pub field: &'a SoilField,
     pub masses: &'a [nalgebra::DMatrix<f64>],
+    /// The absorbing sides' dashpots B, per soil element.
+    pub dashpots: &'a [Option<nalgebra::DMatrix<f64>>],
     /// Rayleigh's [a0, a1].
     pub rayleigh: [f64; 2],
 }
 
 impl Soil<'_> {
-    /// M·(s·x + a0·w) + a1·K·w − c·r.
+    /// M·(s·x + a0·w) + a1·K·w + B·w − c·r.
     fn damped(&self, x: &[f64], s: f64, w: &[f64], c: f64, r: &[f64]) -> Vec<f64> {
-        let Soil { elements, field, masses, rayleigh } = *self;
+        let Soil { elements, field, masses, dashpots, rayleigh } = *self;
         let inertial: Vec<f64> = x.iter().zip(w).map(|(x, w)| s * x + rayleigh[0] * w).collect();
         let mut f = mass_times(masses, &elements.blocks, field, &inertial);
         if rayleigh[1] != 0.0 {
             for (f, k) in f.iter_mut().zip(stiffness_times(&elements.blocks, field, w)) {
                 *f += rayleigh[1] * k;
+            }
+        }
+        if dashpots.iter().any(Option::is_some) {
+            for (f, b) in f.iter_mut().zip(dashpots_times(dashpots, &elements.blocks, field, w)) {
+                *f += b;
             }
         }
         for (f, r) in f.iter_mut().zip(r) {
@@ -146,7 +160,7 @@ impl StepStart {
         let (v0, a0) = (&motion.velocity, &motion.acceleration);
         let p: Vec<f64> = (0..u0.len()).map(|i| -k.c0 * u0[i] - k.c2 * v0[i] - k.c3 * a0[i]).collect();
         let q: Vec<f64> = (0..u0.len()).map(|i| -k.c1 * u0[i] + k.c4 * v0[i] + k.c5 * a0[i]).collect();
-        // h = M·p/(1 + α) + C·(q − α'·v₀) − α'·R(u₀), C = a0·M + a1·K
+        // h = M·p/(1 + α) + C·(q − α'·v₀) − α'·R(u₀), C = a0·M + a1·K + B
         let w: Vec<f64> = q.iter().zip(v0).map(|(q, v)| q - k.carried * v).collect();
         let constant = soil.damped(&p, k.inertia_weight, &w, k.carried, &motion.residual);
         StepStart { p, q, constant }
@@ -169,6 +183,6 @@ impl StepStart {
         let w: Vec<f64> = velocity.iter().zip(&start.velocity).map(|(v, v0)| v - k.carried * v0).collect();
         let dynamic = soil.damped(&acceleration, k.inertia_weight, &w, k.carried, &start.residual);
         let residual = dynamic.iter().map(|f| -f).collect();
-        Motion { time, velocity, acceleration, ground, residual }
+        Motion { time, velocity, acceleration, ground, relative: start.relative, residual }
     }
 }

@@ -1,6 +1,7 @@
 //! Element formulations: plane-strain and axisymmetric soil solids and reinforcement bars.
 
 pub mod bar;
+pub mod dashpot;
 pub mod duncan_chang;
 pub mod geometry;
 pub mod hardening_soil;

@@ -737,14 +737,62 @@ pub struct DynamicSpec {
     /// `lumped` (default) or `consistent` mass.
     #[serde(default)]
     pub mass: Lumping,
-    /// The base's acceleration, at most one motion per direction; the base is the model's
-    /// supports, and the displacements are relative to it.
+    /// The base's acceleration, at most one motion per direction. On a rigid base (the default)
+    /// the base is the model's supports and the displacements are relative to it; with a
+    /// `compliant_base` it is the outcrop motion of the half-space.
     #[serde(default)]
     pub base_motion: Vec<BaseMotion>,
     /// Node sets whose mean displacement, velocity and acceleration `motion.csv` records at every
     /// step.
     #[serde(default)]
     pub record: Vec<String>,
+    /// Sides of the soil that let waves out: Lysmer–Kuhlemeyer dashpots (ρ·Vp normal, ρ·Vs
+    /// tangential, the adjacent soil's) in place of their nodes' supports, whose reactions at the
+    /// stage's start stay on as forces.
+    #[serde(default)]
+    pub absorbing: Vec<AbsorbingEdges>,
+    /// A base that is not rigid: its edges get the dashpots of the half-space below them, the base
+    /// motion (then the outcrop motion) enters as the force ρ·V·A·v_g(t) through them, and the
+    /// displacements are absolute (from the stage's start), not relative to a rigid base.
+    #[serde(default)]
+    pub compliant_base: Option<CompliantBase>,
+}
+
+/// An edge set of absorbing sides.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct AbsorbingEdges {
+    /// The edge set.
+    pub edges: String,
+    /// The directions its dashpots act in and its nodes' supports are freed in. Default both.
+    #[serde(default = "both_directions")]
+    pub directions: Vec<Direction>,
+}
+
+fn both_directions() -> Vec<Direction> {
+    vec![Direction::X, Direction::Y]
+}
+
+/// A compliant base (Joyner & Chen 1975; Lysmer & Kuhlemeyer 1969): an edge set and the elastic
+/// half-space beneath it, by default the soil above each of its edges.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct CompliantBase {
+    /// The edge set of the base.
+    pub edges: String,
+    /// The directions its dashpots act in and its nodes' supports are freed in. Default both.
+    #[serde(default = "both_directions")]
+    pub directions: Vec<Direction>,
+    /// The half-space's unit weight [force/length³]; with `shear_wave_velocity` and
+    /// `poissons_ratio`, or none of the three (the soil's own).
+    #[serde(default)]
+    pub unit_weight: Option<f64>,
+    /// The half-space's shear-wave velocity [length/s].
+    #[serde(default)]
+    pub shear_wave_velocity: Option<f64>,
+    /// The half-space's Poisson's ratio, for its P-wave velocity.
+    #[serde(default)]
+    pub poissons_ratio: Option<f64>,
 }
 
 fn default_hht_alpha() -> f64 {

@@ -14,6 +14,8 @@ const MAX_RECORD_BYTES: u64 = 64 << 20;
 #[derive(Debug, Clone, PartialEq)]
 pub struct GroundMotion {
     samples: Vec<[f64; 2]>,
+    /// The velocity at each sample: the acceleration integrated from rest.
+    velocities: Vec<f64>,
 }
 
 impl GroundMotion {
@@ -33,6 +35,25 @@ impl GroundMotion {
         }
         let (a, b) = (s[k - 1], s[k]);
         a[1] + (b[1] - a[1]) * (t - a[0]) / (b[0] - a[0])
+    }
+
+    /// The velocity at time `t`: the acceleration, linear between samples, integrated from rest
+    /// (constant after the last sample, where the acceleration is zero).
+    pub fn velocity(&self, t: f64) -> f64 {
+        let s = &self.samples;
+        if !(t > 0.0) || s.is_empty() {
+            return 0.0;
+        }
+        let k = s.partition_point(|p| p[0] <= t);
+        if k == s.len() {
+            return self.velocities[k - 1];
+        }
+        if k == 0 {
+            return 0.0;
+        }
+        let (a, b) = (s[k - 1], s[k]);
+        let tau = t - a[0];
+        self.velocities[k - 1] + a[1] * tau + (b[1] - a[1]) * tau * tau / (2.0 * (b[0] - a[0]))
     }
 
     /// The samples (t, a).
@@ -84,7 +105,12 @@ impl GroundMotion {
             scaled.push([0.0, 0.0]);
         }
         scaled.extend(samples.iter().map(|p| [p[0], p[1] * factor]));
-        Ok(GroundMotion { samples: scaled })
+        let mut velocities = vec![0.0; scaled.len()];
+        for k in 1..scaled.len() {
+            let (a, b) = (scaled[k - 1], scaled[k]);
+            velocities[k] = velocities[k - 1] + 0.5 * (a[1] + b[1]) * (b[0] - a[0]);
+        }
+        Ok(GroundMotion { samples: scaled, velocities })
     }
 }
 
@@ -240,5 +266,14 @@ mod tests {
         assert_eq!(m.at(0.31), 0.0);
         assert!(GroundMotion::from_samples(&[[0.0, 1.0]], 1.0).unwrap_err().contains("at rest"));
         assert!(GroundMotion::from_samples(&[[0.1, 1.0], [0.1, 2.0]], 1.0).unwrap_err().contains("increase"));
+    }
+
+    #[test]
+    fn a_motion_s_velocity_is_its_acceleration_integrated_from_rest() {
+        // a = 20·t up to 0.1 s (v = 10·t²), then down to −2 at 0.3 s, then nothing
+        let m = GroundMotion::from_samples(&[[0.1, 1.0], [0.3, -1.0]], 2.0).unwrap();
+        for (t, v) in [(0.0, 0.0), (0.05, 0.025), (0.1, 0.1), (0.2, 0.2), (0.3, 0.1), (1.0, 0.1)] {
+            assert!((m.velocity(t) - v).abs() < 1e-15, "v({t}) = {} against {v}", m.velocity(t));
+        }
     }
 }

@@ -1,12 +1,14 @@
 //! The model: read a file, check every part of it, and build the mesh, interfaces and loading
 //! history that the analysis runs on.
 
+mod dynamic_plan;
 pub mod file;
 pub mod ground_motion;
 pub mod import;
 mod parse;
 pub mod problems;
 mod rows;
+mod side;
 mod validate;
 
 pub use crate::element::soil_state::WaterTable;
@@ -14,7 +16,9 @@ use crate::error::{Error, ModelError};
 use crate::interface::Interface;
 use crate::mesh::{Mesh, NodeIndex};
 use crate::timing::Phase;
+pub use dynamic_plan::{AbsorbingSide, DynamicPlan, HalfSpace};
 pub use parse::{parse, read_text, read_text_within};
+pub use side::LoadedSide;
 // The `[analysis]` settings are checked as the file gives them: the run reads them from here.
 pub use file::{AnalysisSettings, Extrapolation, ReassociationRule, Scheme};
 use file::{Direction, ModelFile, ReinforcementMaterial, SoilMaterial, Units};
@@ -106,13 +110,6 @@ impl SeriesBase {
     }
 }
 
-/// A soil element side that carries a traction: element index and local side index.
-#[derive(Debug, Clone, Copy)]
-pub struct LoadedSide {
-    pub solid: usize,
-    pub side: usize,
-}
-
 #[derive(Debug, Clone)]
 pub enum Load {
     EdgeTraction {
@@ -163,26 +160,6 @@ pub struct StagePlan {
     pub freeze_normal_stress: Option<bool>,
     /// Time steps under a base motion instead of a loading.
     pub dynamic: Option<DynamicPlan>,
-}
-
-/// A checked dynamic stage (docs/dynamics.md).
-#[derive(Debug, Clone, PartialEq)]
-pub struct DynamicPlan {
-    /// Δt [s].
-    pub time_step: f64,
-    /// [s]
-    pub duration: f64,
-    /// HHT-α's α, in [−1/3, 0].
-    pub alpha: f64,
-    /// Rayleigh's a0 [1/s] and a1 [s]: C = a0·M + a1·K.
-    pub rayleigh: [f64; 2],
-    pub lumping: crate::element::mass::Lumping,
-    /// The base acceleration in each direction given [length/s²].
-    pub base_motion: Vec<(Direction, ground_motion::GroundMotion)>,
-    /// g [length/s²]: a soil's density is its unit weight over it.
-    pub gravity: f64,
-    /// The node sets whose motion the results record.
-    pub record: Vec<String>,
 }
 
 /// A checked strength-reduction stage.

@@ -91,14 +91,9 @@ impl MotionHistory {
                     };
                     let u = &results.displacement_vector;
                     let (v, a) = (&motion.velocity, &motion.acceleration);
-                    [
-                        mean(u, 0),
-                        mean(u, 1),
-                        mean(v, 0),
-                        mean(v, 1),
-                        mean(a, 0) + motion.ground[0],
-                        mean(a, 1) + motion.ground[1],
-                    ]
+                    // over a rigid base, the absolute acceleration is the relative one plus the base's
+                    let base = if motion.relative { motion.ground } else { [0.0; 2] };
+                    [mean(u, 0), mean(u, 1), mean(v, 0), mean(v, 1), mean(a, 0) + base[0], mean(a, 1) + base[1]]
                 })
                 .collect();
             self.rows.push(Row {

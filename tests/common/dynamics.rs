@@ -31,6 +31,8 @@ pub fn shaking_in_x(
             scale: 1.0,
         }],
         record: Vec::new(),
+        absorbing: Vec::new(),
+        compliant_base: None,
     }
 }
 

@@ -1,10 +1,13 @@
-//! A dynamic stage's time steps: the soil's masses computed for the stage, then each step as an
-//! increment of the static problem with the step's dynamic operator D and constant force
-//! (`time_scheme.rs`), the base motion as the inertia force −M·ι·a_g(t) in the frame of the base
-//! (Chopra, Dynamics of Structures, §9.4). A step that fails is cut back (the state and motion
-//! restored, its midpoint in time put in front). A dynamic stage keeps no saved steps: a run
+//! A dynamic stage's time steps: the soil's masses and the absorbing sides' dashpots computed for
+//! the stage (the supports they replace freed by the set-up, their reactions kept on as forces),
+//! then each step as an increment of the static problem with the step's dynamic operator D and
+//! constant force (`time_scheme.rs`). The base motion is the inertia force −M·ι·a_g(t) in the frame
+//! of a rigid base (Chopra, Dynamics of Structures, §9.4), or over a compliant base the force
+//! C_b·ι·v_g(t) through its dashpots (`absorbing.rs`). A step that fails is cut back (the state and
+//! motion restored, its midpoint in time put in front). A dynamic stage keeps no saved steps: a run
 //! continues from the last one before it.
 
+use super::super::absorbing::Dashpots;
 use super::super::context::Context;
 use super::super::sink::StepSink;
 use super::super::soil;
@@ -12,6 +15,7 @@ use super::super::state::State;
 use super::super::time_scheme::{Hht, Motion, Soil, StepStart};
 use super::complete::complete_increment;
 use super::cutback::solved_or_cut_back;
+use super::placement::reactions;
 use super::progress::{Increment, Stage};
 use crate::assembly::inertia::{mass_times, Inertia};
 use crate::dofs::Direction;
@@ -28,10 +32,18 @@ pub fn time_steps(
     sink: &mut dyn StepSink,
 ) -> Result<(), Error> {
     let masses = soil::masses(cx.model, &state.soil, plan.gravity, plan.lumping);
-    // the ground's acceleration in each direction puts −M·ι_d·a_g,d(t) on the soil
+    let dashpots = Dashpots::new(cx.model, &state.soil, plan);
+    // the freed supports' reactions stay on as forces
+    let f_ext_before = stage.progress.f_ext_start.clone();
+    for (&d, r) in stage.freed.iter().zip(reactions(cx, &stage.dofs, state, &stage.freed)) {
+        stage.progress.f_ext_start[d] += r;
+        state.f_ext[d] += r;
+    }
+    // on a rigid base, the ground's acceleration in each direction puts −M·ι_d·a_g,d(t) on the soil
     let influence: Vec<(Direction, Vec<f64>)> = plan
         .base_motion
         .iter()
+        .filter(|_| !plan.compliant_base)
         .map(|(d, _)| {
             let mut iota = vec![0.0; state.u.len()];
             let first = if *d == Direction::X { 0 } else { 1 };
@@ -41,13 +53,27 @@ pub fn time_steps(
             (*d, mass_times(&masses, &cx.elements.blocks, &state.soil, &iota))
         })
         .collect();
-    cx.elements.inertia = Some(Inertia { masses, mass: 0.0, stiffness: 0.0, generation: stage.index as u64 + 1 });
-    state.motion = Some(Motion::at_rest(state.u.len()));
-    let stepped = steps(cx, state, stage, plan, &influence, sink);
+    let generation = stage.index as u64 + 1;
+    let Dashpots { elements: dashpots, input } = dashpots;
+    cx.elements.inertia = Some(Inertia { masses, dashpots, mass: 0.0, stiffness: 0.0, damper: 0.0, generation });
+    state.motion = Some(Motion::at_rest(state.u.len(), !plan.compliant_base));
+    let stepped = steps(cx, state, stage, plan, &Forces { influence, input }, sink);
     cx.elements.inertia = None;
     state.motion = None;
+    // the freed supports hold again where the shaking left them
+    for &d in &stage.freed {
+        cx.held[d] = true;
+    }
+    stage.progress.f_ext_start = f_ext_before;
     state.f_ext = stage.progress.f_ext_start.clone();
     stepped
+}
+
+/// The base motion's forces per unit of its acceleration (a rigid base's −M·ι) or of its velocity
+/// (a compliant base's C_b·ι), in each direction shaken.
+struct Forces {
+    influence: Vec<(Direction, Vec<f64>)>,
+    input: Vec<(Direction, Vec<f64>)>,
 }
 
 fn steps(
@@ -55,7 +81,7 @@ fn steps(
     state: &mut State,
     stage: &mut Stage,
     plan: &DynamicPlan,
-    influence: &[(Direction, Vec<f64>)],
+    forces: &Forces,
     sink: &mut dyn StepSink,
 ) -> Result<(), Error> {
     let scheme = Hht::new(plan.alpha);
@@ -65,29 +91,32 @@ fn steps(
         let start = state.motion.clone().expect("a dynamic stage carries its motion");
         let time = target * plan.duration;
         let k = scheme.step(nominal_step(time - start.time, plan.time_step));
-        let (mass, stiffness) = k.operator(plan.rayleigh);
+        let (mass, stiffness, damper) = k.operator(plan.rayleigh);
         let inertia = cx.elements.inertia.as_mut().expect("the stage's masses are in place");
-        (inertia.mass, inertia.stiffness) = (mass, stiffness);
-        let masses = &cx.elements.inertia.as_ref().expect("in place").masses;
-        let soil = Soil { elements: &cx.elements, field: &state.soil, masses, rayleigh: plan.rayleigh };
+        (inertia.mass, inertia.stiffness, inertia.damper) = (mass, stiffness, damper);
+        let soil = soil_of(cx, state, plan);
         let step_start = StepStart::new(&soil, &state.u, &start, &k);
-        let mut ground = [0.0; 2];
+        let (mut ground, mut velocity) = ([0.0; 2], [0.0; 2]);
         for (d, motion) in &plan.base_motion {
-            ground[if *d == Direction::X { 0 } else { 1 }] = motion.at(time);
+            ground[index(*d)] = motion.at(time);
+            velocity[index(*d)] = motion.velocity(time);
         }
         let progress = &stage.progress;
         for (i, f) in state.f_ext.iter_mut().enumerate() {
             *f = progress.f_ext_start[i] - step_start.constant[i];
         }
-        for (d, m_iota) in influence {
-            let a_g = ground[if *d == Direction::X { 0 } else { 1 }];
+        for (d, m_iota) in &forces.influence {
             for (f, m) in state.f_ext.iter_mut().zip(m_iota) {
-                *f -= m * a_g;
+                *f -= m * ground[index(*d)];
+            }
+        }
+        for (d, c_iota) in &forces.input {
+            for (f, c) in state.f_ext.iter_mut().zip(c_iota) {
+                *f += c * velocity[index(*d)];
             }
         }
         let Some(report) = solved_or_cut_back(cx, stage, state, &snapshot, target)? else { continue };
-        let masses = &cx.elements.inertia.as_ref().expect("in place").masses;
-        let soil = Soil { elements: &cx.elements, field: &state.soil, masses, rayleigh: plan.rayleigh };
+        let soil = soil_of(cx, state, plan);
         let end = step_start.end(&soil, &state.u, &start, &k, time, ground);
         state.motion = Some(end);
         stage.step += 1;
@@ -105,6 +134,22 @@ fn steps(
         stage.progress.reach(target, planned_step);
     }
     Ok(())
+}
+
+/// The soil's mass and damping in the stage.
+fn soil_of<'a>(cx: &'a Context, state: &'a State, plan: &DynamicPlan) -> Soil<'a> {
+    let inertia = cx.elements.inertia.as_ref().expect("the stage's masses are in place");
+    let (masses, dashpots) = (&inertia.masses, &inertia.dashpots);
+    Soil { elements: &cx.elements, field: &state.soil, masses, dashpots, rayleigh: plan.rayleigh }
+}
+
+/// The index of a direction in (x, y).
+fn index(d: Direction) -> usize {
+    if d == Direction::X {
+        0
+    } else {
+        1
+    }
 }
 
 /// The step `h` as the plan's Δt halved k times when it is that up to round-off: the times come

@@ -15,6 +15,7 @@ pub use progress::{Increment, Stage, StageProgress};
 
 use placement::{unbalance, Placement};
 
+use super::absorbing;
 use super::checkpoint::{Checkpoint, ModelPrint};
 use super::context::Context;
 use super::loads::external_force;
@@ -38,6 +39,7 @@ pub fn set_up<'a>(cx: &mut Context, state: &mut State, plan: &'a StagePlan, inde
     for &(n, d, _) in &plan.prescribed {
         cx.held[dof(n, d)] = true;
     }
+    let freed = plan.dynamic.as_ref().map_or(Vec::new(), |d| absorbing::free_supports(model, d, &mut cx.held));
     // The soil of this stage: lifts placed, soil removed, a new water table, K0 stresses.
     let soil_changed = !plan.activate.is_empty() || !plan.deactivate.is_empty() || plan.k0 || plan.water.is_some();
     soil::deactivate(&mut state.soil, &plan.deactivate);
@@ -100,7 +102,7 @@ pub fn set_up<'a>(cx: &mut Context, state: &mut State, plan: &'a StagePlan, inde
         cutbacks: 0,
         last: None,
     };
-    Stage { plan, index, dofs, step: 0, progress }
+    Stage { plan, index, dofs, step: 0, freed, progress }
 }
 
 /// A stage set up again from a saved step: its DOFs from the saved state, its progress and step
@@ -115,7 +117,7 @@ pub fn resumed<'a>(
 ) -> Stage<'a> {
     let placement = Placement::of(cx.model, &state.soil, &state.bars, &cx.held);
     let dofs = DofMap::new(cx.model.mesh.nodes.len(), &placement.held, &state.interfaces);
-    Stage { plan, index, dofs, step, progress }
+    Stage { plan, index, dofs, step, freed: Vec::new(), progress }
 }
 
 /// Freeze the interfaces' σn for the stage's increments when it asks for it (at the start of a

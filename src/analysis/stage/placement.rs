@@ -89,12 +89,22 @@ fn with_absent_nodes(model: &Model, present: &[bool], bars: &BarStates, held: &[
 /// The out-of-balance force of the converged state under the stage's new soil configuration, on the
 /// free DOFs: f_ext − f_int − Cᵀλ.
 pub(super) fn unbalance(cx: &Context, dofs: &DofMap, state: &State) -> Vec<f64> {
+    let out_of_balance = out_of_balance(cx, dofs, state);
+    (0..state.u.len()).map(|d| if dofs.equation[d].is_some() { out_of_balance[d] } else { 0.0 }).collect()
+}
+
+/// The reactions of the supports at `freed` in the converged state: f_int + Cᵀλ − f_ext there.
+pub(super) fn reactions(cx: &Context, dofs: &DofMap, state: &State, freed: &[usize]) -> Vec<f64> {
+    let out_of_balance = out_of_balance(cx, dofs, state);
+    freed.iter().map(|&d| -out_of_balance[d]).collect()
+}
+
+/// f_ext − f_int − Cᵀλ over all displacement DOFs.
+fn out_of_balance(cx: &Context, dofs: &DofMap, state: &State) -> Vec<f64> {
     let interface = InterfaceIterate::at(cx.model, state, &dofs.multipliers);
     let trial = soil::evaluate(&cx.setup, &state.soil, &state.u, &state.u_committed, Tangent::Elastic);
     let view = SoilView { field: &state.soil, trial: &trial };
     let f_int = internal_force(&cx.elements, view, &interface.rows, &interface.taus(), &state.bars, &state.u);
     let f_c = constraint_force(&interface.rows, &state.lambda, state.u.len());
-    (0..state.u.len())
-        .map(|d| if dofs.equation[d].is_some() { state.f_ext[d] - f_int[d] - f_c[d] } else { 0.0 })
-        .collect()
+    (0..state.u.len()).map(|d| state.f_ext[d] - f_int[d] - f_c[d]).collect()
 }

@@ -15,6 +15,9 @@ pub struct Stage<'a> {
     pub dofs: DofMap,
     /// Converged steps so far.
     pub step: usize,
+    /// The supported DOFs this stage frees (a dynamic stage's absorbing sides), held again when it
+    /// ends.
+    pub freed: Vec<usize>,
     /// Its set-up's results and the load factors still to reach: what a saved step keeps of it.
     pub progress: StageProgress,
 }

@@ -5,7 +5,8 @@
 use crate::model::file::*;
 use crate::model::ground_motion::{self, GroundMotion};
 use crate::model::problems::Problems;
-use crate::model::{DynamicPlan, Model};
+use crate::model::{AbsorbingSide, DynamicPlan, HalfSpace, LoadedSide, Model};
+use std::collections::BTreeMap;
 use std::path::Path;
 
 /// The most time steps a dynamic stage may take.
@@ -22,7 +23,8 @@ pub(super) fn dynamic(
     s: &Stage,
     source: &Path,
     units: &Units,
-    node_sets: &std::collections::BTreeMap<String, Vec<crate::mesh::NodeIndex>>,
+    node_sets: &BTreeMap<String, Vec<crate::mesh::NodeIndex>>,
+    edge_sets: &BTreeMap<String, Vec<LoadedSide>>,
     field: &str,
     entity: &str,
     p: &mut Problems,
@@ -87,6 +89,8 @@ pub(super) fn dynamic(
             p.push(format!("{dfield}.record[{k}]"), entity, format!("no node set \"{name}\""));
         }
     }
+    let gravity = STANDARD_GRAVITY * metre;
+    let absorbing = absorbing(spec, edge_sets, gravity, &dfield, entity, p);
     if p.len() > before {
         return None;
     }
@@ -99,8 +103,10 @@ pub(super) fn dynamic(
         rayleigh: rayleigh?,
         lumping: spec.mass,
         base_motion,
-        gravity: STANDARD_GRAVITY * metre,
+        gravity,
         record: spec.record.clone(),
+        absorbing,
+        compliant_base: spec.compliant_base.is_some(),
     };
     Some((plan, factors))
 }
@@ -187,6 +193,91 @@ fn base(m: &BaseMotion, dir: &Path, metre: f64, mfield: &str, entity: &str, p: &
         Err(e) => {
             let at = if m.file.is_some() { format!("{mfield}.file") } else { format!("{mfield}.samples") };
             p.push(at, entity, e);
+            None
+        }
+    }
+}
+
+/// The absorbing sides and the compliant base's, each side once.
+fn absorbing(
+    spec: &DynamicSpec,
+    edge_sets: &BTreeMap<String, Vec<LoadedSide>>,
+    gravity: f64,
+    dfield: &str,
+    entity: &str,
+    p: &mut Problems,
+) -> Vec<AbsorbingSide> {
+    let mut sides: Vec<AbsorbingSide> = Vec::new();
+    let mut add = |set: &str,
+                   directions: &[Direction],
+                   field: String,
+                   half_space: Option<HalfSpace>,
+                   input: bool,
+                   p: &mut Problems| {
+        let Some(list) = edge_sets.get(set) else {
+            p.push(format!("{field}.edges"), entity, format!("no edge set \"{set}\""));
+            return;
+        };
+        if directions.is_empty() {
+            p.push(format!("{field}.directions"), entity, "give the directions the dashpots act in: x, y or both");
+            return;
+        }
+        let directions = [directions.contains(&Direction::X), directions.contains(&Direction::Y)];
+        for side in list {
+            if sides.iter().any(|s| s.side == *side) {
+                p.push(
+                    field,
+                    entity,
+                    format!("edge set \"{set}\" has a side that is already absorbing (its dashpots would count twice)"),
+                );
+                return;
+            }
+            sides.push(AbsorbingSide { side: *side, half_space, input, directions });
+        }
+    };
+    for (k, a) in spec.absorbing.iter().enumerate() {
+        add(&a.edges, &a.directions, format!("{dfield}.absorbing[{k}]"), None, false, p);
+    }
+    if let Some(base) = &spec.compliant_base {
+        let field = format!("{dfield}.compliant_base");
+        let half_space = half_space(base, gravity, &field, entity, p);
+        add(&base.edges, &base.directions, field, half_space, true, p);
+    }
+    sides
+}
+
+/// A compliant base's half-space: all three properties or none (the soil's own).
+fn half_space(base: &CompliantBase, gravity: f64, field: &str, entity: &str, p: &mut Problems) -> Option<HalfSpace> {
+    match (base.unit_weight, base.shear_wave_velocity, base.poissons_ratio) {
+        (None, None, None) => None,
+        (Some(gamma), Some(vs), Some(nu)) => {
+            let before = p.len();
+            if !(gamma.is_finite() && gamma > 0.0) {
+                p.push(format!("{field}.unit_weight"), entity, format!("must be a positive number, found {gamma}"));
+            }
+            if !(vs.is_finite() && vs > 0.0) {
+                p.push(
+                    format!("{field}.shear_wave_velocity"),
+                    entity,
+                    format!("must be a positive number, found {vs}"),
+                );
+            }
+            if !(nu > -1.0 && nu < 0.5) {
+                p.push(format!("{field}.poissons_ratio"), entity, format!("must be in (−1, 0.5), found {nu}"));
+            }
+            if p.len() > before {
+                return None;
+            }
+            let density = gamma / gravity;
+            let shear = density * vs * vs;
+            Some(HalfSpace::elastic(density, 2.0 * shear * (1.0 + nu), nu))
+        }
+        _ => {
+            p.push(
+                field,
+                entity,
+                "give the half-space's unit_weight, shear_wave_velocity and poissons_ratio, all three, or none (the soil's own)",
+            );
             None
         }
     }

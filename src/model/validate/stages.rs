@@ -36,7 +36,7 @@ pub(super) fn stages(d: &mut Draft, file: &ModelFile, source: &std::path::Path, 
         let dynamic = s
             .dynamic
             .as_ref()
-            .map(|spec| dynamic::dynamic(spec, s, source, &file.units, &d.node_sets, field, entity, p));
+            .map(|spec| dynamic::dynamic(spec, s, source, &file.units, &d.node_sets, &d.edge_sets, field, entity, p));
         let from_history = s.history.as_ref().filter(|_| s.dynamic.is_none()).map(|h| history(h, s, &at, p));
         let (lf, reversals) = match (&from_history, &dynamic) {
             (Some(Some((factors, reversals))), _) => (factors, reversals.clone()),
@@ -84,7 +84,37 @@ pub(super) fn stages(d: &mut Draft, file: &ModelFile, source: &std::path::Path, 
             dynamic: dynamic.and_then(|d| d.map(|(plan, _)| plan)),
         });
     }
+    absorbing_sides_present(d, p);
     compaction(d, file, &mut stage_names, p);
+}
+
+/// Each dynamic stage's absorbing sides belong to soil present in it.
+fn absorbing_sides_present(d: &Draft, p: &mut Problems) {
+    let mut present = vec![true; d.mesh.solids.len()];
+    for plan in &d.stages {
+        for &e in &plan.activate {
+            present[e] = false;
+        }
+    }
+    for (k, plan) in d.stages.iter().enumerate() {
+        for &e in &plan.deactivate {
+            present[e] = false;
+        }
+        for &e in &plan.activate {
+            present[e] = true;
+        }
+        let absorbing = plan.dynamic.iter().flat_map(|dynamic| &dynamic.absorbing);
+        if let Some(a) = absorbing.into_iter().find(|a| !present[a.side.solid]) {
+            p.push(
+                format!("stages[{k}].dynamic"),
+                format!("stage \"{}\"", plan.name),
+                format!(
+                    "an absorbing side belongs to element {}, which is not present in this stage",
+                    d.mesh.solids[a.side.solid].id
+                ),
+            );
+        }
+    }
 }
 
 /// Load factors at `field`: at most `MAX_LOAD_FACTORS`, increasing within (0, 1], ending at 1.
