@@ -23,6 +23,9 @@ pub struct Context<'a> {
     /// The soil's laws (reduced by a strength-reduction search while it runs).
     pub setup: SoilSetup,
     pub system: LinearSystem,
+    /// The fingerprint of the matrix `system` holds factorised, if it holds one: a later iteration
+    /// (of this increment or a later one) with the same fingerprint solves with it again.
+    pub system_key: Option<u64>,
     /// The run's counts, times and warnings.
     pub stats: RunStats,
     /// The soil condensed onto the interface's unknowns (`condensation`), where the run condenses.
@@ -73,6 +76,7 @@ impl<'a> Context<'a> {
             elements,
             setup,
             system,
+            system_key: None,
             stats,
             condensed,
             conditioning_checked: None,

@@ -499,6 +499,10 @@ pub fn evaluate(setup: &SoilSetup, field: &SoilField, u: &[f64], u_committed: &[
 
 /// Keep the converged Gauss-point states.
 pub fn commit(field: &mut SoilField, trial: &SoilTrial) {
+    // (an elastic soil's trial has no points: its field stays as it is, shared with its copies)
+    if trial.points.iter().all(Option::is_none) {
+        return;
+    }
     for (state, points) in field.elements_mut().iter_mut().zip(&trial.points) {
         if let Some(points) = points {
             state.points = points.clone();

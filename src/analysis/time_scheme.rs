@@ -25,7 +25,7 @@
 //! step's end. R(u₀) is carried from the step before (zero where the stage starts from a static
 //! equilibrium).
 
-use crate::assembly::inertia::{dashpots_times, mass_times, stiffness_times};
+use crate::assembly::inertia::{damping_times, Inertia};
 use crate::assembly::ElementMatrices;
 use crate::element::soil_state::SoilField;
 
@@ -124,31 +124,22 @@ pub struct StepStart {
 pub struct Soil<'a> {
     pub elements: &'a ElementMatrices,
     pub field: &'a SoilField,
-    pub masses: &'a [nalgebra::DMatrix<f64>],
-    /// The absorbing sides' dashpots B, per soil element.
-    pub dashpots: &'a [Option<nalgebra::DMatrix<f64>>],
+    /// The masses M and the absorbing sides' dashpots B.
+    pub inertia: &'a Inertia,
     /// Rayleigh's [a0, a1].
     pub rayleigh: [f64; 2],
 }
 
 impl Soil<'_> {
-    /// M·(s·x + a0·w) + a1·K·w + B·w − c·r.
+    /// M·(s·x + a0·w) + a1·K·w + B·w − c·r, in one pass over the soil elements.
     fn damped(&self, x: &[f64], s: f64, w: &[f64], c: f64, r: &[f64]) -> Vec<f64> {
-        let Soil { elements, field, masses, dashpots, rayleigh } = *self;
+        let Soil { elements, field, inertia, rayleigh } = *self;
         let inertial: Vec<f64> = x.iter().zip(w).map(|(x, w)| s * x + rayleigh[0] * w).collect();
-        let mut f = mass_times(masses, &elements.blocks, field, &inertial);
-        if rayleigh[1] != 0.0 {
-            for (f, k) in f.iter_mut().zip(stiffness_times(&elements.blocks, field, w)) {
-                *f += rayleigh[1] * k;
+        let mut f = damping_times(inertia, &elements.blocks, field, &inertial, rayleigh[1], w);
+        if c != 0.0 {
+            for (f, r) in f.iter_mut().zip(r) {
+                *f -= c * r;
             }
-        }
-        if dashpots.iter().any(Option::is_some) {
-            for (f, b) in f.iter_mut().zip(dashpots_times(dashpots, &elements.blocks, field, w)) {
-                *f += b;
-            }
-        }
-        for (f, r) in f.iter_mut().zip(r) {
-            *f -= c * r;
         }
         f
     }

@@ -88,7 +88,7 @@ fn forces_and_magnitudes(
             return;
         }
         if let Some(inertia) = &elements.inertia {
-            inertia.add_force(s, k, dl, u, f, magnitudes.then_some(n));
+            inertia.add_force(s, dl, u, f, magnitudes.then_some(n));
         }
         if magnitudes {
             let forces = [

@@ -181,7 +181,7 @@ impl SystemInputs<'_> {
             }
             // a yielding element's tangent, as `add_blocks` takes it, and its dynamic part
             let k = soil.trial.tangents.get(b).and_then(|t| t.as_ref()).unwrap_or(elastic);
-            let entry = |a: usize, c: usize| k[(a, c)] + inertia.map_or(0.0, |d| d.entry(b, elastic, a, c));
+            let entry = |a: usize, c: usize| k[(a, c)] + inertia.map_or(0.0, |d| d.entry(b, a, c));
             for (a, &da) in dl.iter().enumerate() {
                 let Some(i) = eq(da) else { continue };
                 let mut sum = 0.0;
@@ -273,7 +273,7 @@ impl SystemInputs<'_> {
                 let Some(ia) = eq(da) else { continue };
                 for (b, &db) in dl.iter().enumerate() {
                     if let Some(ib) = eq(db) {
-                        let dynamic = inertia.map_or(0.0, |d| d.entry(e, elastic, a, b));
+                        let dynamic = inertia.map_or(0.0, |d| d.entry(e, a, b));
                         t.push(ia, ib, factor * k[(a, b)] + dynamic);
                     }
                 }
@@ -413,6 +413,8 @@ impl SystemInputs<'_> {
             multiplier_is_active(interfaces, dofs.multipliers[k]).hash(&mut h);
         }
         scale.to_bits().hash(&mut h);
+        // (the equation numbers change from stage to stage)
+        dofs.equation_key().hash(&mut h);
         h.finish()
     }
 }

@@ -2,6 +2,7 @@
 
 mod bench;
 mod calibrate;
+mod dynamic_bench;
 pub mod measure;
 mod progress;
 mod pullout_bench;
@@ -189,6 +190,14 @@ enum Command {
         /// file (`pullout-<size>.toml`, its mesh inline) and run nothing.
         #[arg(long, requires = "pullout")]
         write_models: Option<PathBuf>,
+        /// The dynamic benchmark instead: a shaken elastic layer, `--steps` time steps with its
+        /// results written, against one factorisation and one solve per time step
+        /// (docs/performance.md).
+        #[arg(long)]
+        dynamic: bool,
+        /// With --dynamic: the time steps.
+        #[arg(long, default_value_t = 2000)]
+        steps: usize,
     },
     /// One benchmark measurement, in a process of its own (used by `bench`).
     #[command(hide = true)]
@@ -217,6 +226,10 @@ enum Command {
         /// the floor only.
         #[arg(long, default_value_t = 1)]
         pairs: usize,
+        #[arg(long)]
+        dynamic: bool,
+        #[arg(long, default_value_t = 2000)]
+        steps: usize,
     },
 }
 
@@ -268,7 +281,7 @@ fn command_line(process: crate::timing::ProcessStart) -> ExitCode {
             }
             ExitCode::SUCCESS
         }
-        Command::Bench { sizes, backends, repeats, orderings, nonlinear, pullout, write_models } => {
+        Command::Bench { sizes, backends, repeats, orderings, nonlinear, pullout, write_models, dynamic, steps } => {
             match if let Some(folder) = write_models {
                 pullout_bench::write_pullout_models(&sizes, &folder)
             } else if pullout {
@@ -282,6 +295,8 @@ fn command_line(process: crate::timing::ProcessStart) -> ExitCode {
                     (Scheme::Newton, true, Extrapolation::Linear),
                 ];
                 pullout_bench::bench_pullout(&sizes, backend, &variants)
+            } else if dynamic {
+                dynamic_bench::bench_dynamic(&sizes, steps, backends.first().copied().unwrap_or(Backend::Auto))
             } else if nonlinear {
                 bench_nonlinear(&sizes, &backends, &orderings)
             } else {
@@ -294,9 +309,24 @@ fn command_line(process: crate::timing::ProcessStart) -> ExitCode {
                 }
             }
         }
-        Command::BenchOne { dofs, backend, ordering, nonlinear, pullout, scheme, full_system, extrapolate, pairs } => {
+        Command::BenchOne {
+            dofs,
+            backend,
+            ordering,
+            nonlinear,
+            pullout,
+            scheme,
+            full_system,
+            extrapolate,
+            pairs,
+            dynamic,
+            steps,
+        } => {
             let backend = Backend::available().into_iter().find(|b| b.name() == backend);
             let line = match (nonlinear, backend) {
+                (_, Some(b)) if dynamic => {
+                    serde_json::to_string(&dynamic_bench::measure_dynamic(dofs, steps, b, process))
+                }
                 (_, Some(b)) if pullout => {
                     let scheme = match scheme.as_str() {
                         "newton" => Scheme::Newton,

@@ -10,7 +10,6 @@
 use super::measure::peak_memory_mb;
 use crate::analysis::results::StepResults;
 use crate::analysis::{self, StepRecord, StepSink};
-use crate::linsol::csc::PatternCache;
 use crate::linsol::linear_system::{LinearSystem, SolverStats};
 use crate::linsol::{self, Backend};
 use crate::meshgen::PullOutBox;
@@ -326,40 +325,47 @@ pub fn measure_pullout(
         let spread = shares.iter().map(|s| (s - m.output_share_mean).powi(2)).sum::<f64>() / (shares.len() - 1) as f64;
         m.output_share_error = (spread / shares.len() as f64).sqrt();
     }
-    // the floor, in this process: the first system factorised and solved three times each
-    let (n, system) = analysis::first_system(&model);
+    // the floor, in this process
+    let (n, floor) = floor(&model, backend);
     m.unknowns = n;
-    let matrix = PatternCache::default().assemble(n, &system.triplets).0;
-    match LinearSystem::new(backend, true, &linsol::SolverOptions::default()) {
-        Ok(mut ls) => {
-            let mut stats = SolverStats::default();
-            let mut factorize = [0.0; 3];
-            let mut solve = [0.0; 3];
-            for k in 0..3 {
-                let mut values = system.triplets.clone();
-                // new values each time (the same matrix scaled), so that each is a factorisation
-                for v in &mut values.values {
-                    *v *= 1.0 + 1e-9 * (k + 1) as f64;
-                }
-                let t = Instant::now();
-                let _ = ls.solve(&mut stats, n, values, &system.rhs, system.active);
-                factorize[k] = t.elapsed().as_secs_f64();
-                let t = Instant::now();
-                let _ = ls.solve_again(&mut stats, &system.rhs);
-                solve[k] = t.elapsed().as_secs_f64();
-            }
-            // a factorisation's time is the solve's call less its one solve
-            m.solve_seconds = median3(solve);
-            m.factorize_seconds = (median3(factorize) - m.solve_seconds).max(0.0);
-        }
-        Err(e) => m.error = Some(e.to_string()),
+    match floor {
+        Ok((factorize, solve)) => (m.factorize_seconds, m.solve_seconds) = (factorize, solve),
+        Err(e) => m.error = Some(e),
     }
-    let _ = matrix;
     m.process_peak_mb = peak_memory_mb();
     m
 }
 
-fn folder_bytes(dir: &Path) -> u64 {
+/// The floor of a run of `model`, measured in this process: its first system factorised and
+/// solved three times each, the medians of a factorisation and of a solve [s], with the system's
+/// unknowns.
+pub(super) fn floor(model: &Model, backend: Backend) -> (usize, Result<(f64, f64), String>) {
+    let (n, system) = analysis::first_system(model);
+    let mut ls = match LinearSystem::new(backend, true, &linsol::SolverOptions::default()) {
+        Ok(ls) => ls,
+        Err(e) => return (n, Err(e.to_string())),
+    };
+    let mut stats = SolverStats::default();
+    let (mut factorize, mut solve) = ([0.0; 3], [0.0; 3]);
+    for k in 0..3 {
+        let mut values = system.triplets.clone();
+        // new values each time (the same matrix scaled), so that each is a factorisation
+        for v in &mut values.values {
+            *v *= 1.0 + 1e-9 * (k + 1) as f64;
+        }
+        let t = Instant::now();
+        let _ = ls.solve(&mut stats, n, values, &system.rhs, system.active);
+        factorize[k] = t.elapsed().as_secs_f64();
+        let t = Instant::now();
+        let _ = ls.solve_again(&mut stats, &system.rhs);
+        solve[k] = t.elapsed().as_secs_f64();
+    }
+    // a factorisation's time is the solve's call less its one solve
+    let solve = median3(solve);
+    (n, Ok(((median3(factorize) - solve).max(0.0), solve)))
+}
+
+pub(super) fn folder_bytes(dir: &Path) -> u64 {
     let Ok(entries) = std::fs::read_dir(dir) else { return 0 };
     entries
         .flatten()

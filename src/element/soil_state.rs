@@ -49,10 +49,12 @@ pub struct ElementState {
 /// Every soil element's state, and the water table in force. The elements are read through
 /// [`elements`](Self::elements) and changed through [`elements_mut`](Self::elements_mut), which
 /// forgets the packed presence flags ([`active_words`](Self::active_words)) until they are next
-/// asked for: no change to an element can leave them stale.
+/// asked for: no change to an element can leave them stale. The states are shared between copies
+/// of the field until one of them changes (a copy kept to restore a step costs nothing while the
+/// step does not change the field).
 #[derive(Debug, Clone, Default, serde::Serialize, serde::Deserialize)]
 pub struct SoilField {
-    elements: Vec<ElementState>,
+    elements: std::sync::Arc<Vec<ElementState>>,
     pub water: Option<WaterTable>,
     /// Each element's `active` flag, 64 to a word; made when first asked for after a change.
     #[serde(skip)]
@@ -62,7 +64,7 @@ pub struct SoilField {
 impl SoilField {
     /// A field of `elements`, with no water table.
     pub fn new(elements: Vec<ElementState>) -> Self {
-        SoilField { elements, water: None, active_words: std::sync::OnceLock::new() }
+        SoilField { elements: std::sync::Arc::new(elements), water: None, active_words: std::sync::OnceLock::new() }
     }
 
     /// Every soil element's state, in the mesh's order of solids.
@@ -73,7 +75,7 @@ impl SoilField {
     /// Every soil element's state, to change.
     pub fn elements_mut(&mut self) -> &mut [ElementState] {
         self.active_words = std::sync::OnceLock::new();
-        &mut self.elements
+        std::sync::Arc::make_mut(&mut self.elements).as_mut_slice()
     }
 
     /// Each element's `active` flag, 64 to a word: element `e` is bit `e % 64` of word `e / 64`.

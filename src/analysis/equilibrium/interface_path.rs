@@ -106,8 +106,6 @@ pub(super) fn solve_condensed(
         singular::warn_if_ill_conditioned(&mut cx.stats, cx.model, dofs, state, &diagonal);
     }
     it.carried_element_force = None;
-    // the full system's factorisation (if any) is not this iteration's matrix
-    it.matrix_key = None;
     it.condensed_solve = true;
     it.linear_residuals.push(linear_residual);
     Ok(Some(Solution { x, scale, rhs }))

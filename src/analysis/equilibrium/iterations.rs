@@ -43,8 +43,6 @@ pub(super) struct Iterations {
     /// The springs' stiffness of the last iteration's matrix (constant stiffness keeps it while the
     /// contact states stay).
     pub spring_stiffness: Option<SpringStiffness>,
-    /// The fingerprint of the last matrix solved with.
-    pub matrix_key: Option<u64>,
     pub fallbacks: Fallbacks,
     /// The soil evaluated at the current iterate by the last convergence check.
     pub carried_soil: Option<SoilTrial>,
@@ -79,7 +77,6 @@ impl Iterations {
             flips: Flips::new(),
             state_changes: Vec::new(),
             spring_stiffness: None,
-            matrix_key: None,
             fallbacks: Fallbacks {
                 elastic_springs: false,
                 soil_tangent: match cx.options.analysis.scheme {

@@ -95,9 +95,9 @@ fn solve_full(
     linear: &Linearisation,
 ) -> Result<Option<Solution>, IncrementError> {
     // The matrix of the last solve, when nothing in it changed (constant stiffness, no state
-    // change): no assembly, no factorisation, one solve.
+    // change, in this increment or since an earlier one): no assembly, no factorisation, one solve.
     let t = Instant::now();
-    let reuse = it.matrix_key == Some(linear.key);
+    let reuse = cx.system_key == Some(linear.key);
     let system = linear.inputs(&cx.elements, dofs, state);
     let element = it.carried_element_force.take();
     let IterationSystem { triplets, rhs, scale, active } =
@@ -112,7 +112,8 @@ fn solve_full(
         }
     }
     let reused = if reuse { cx.system.solve_again(&mut cx.stats.solver, &rhs).ok() } else { None };
-    it.matrix_key = Some(linear.key);
+    // (taken back below if the matrix turns out singular or the solver fails)
+    cx.system_key = Some(linear.key);
     let solved = match reused {
         Some(solution) => Ok(solution),
         None => {
@@ -152,6 +153,7 @@ fn solve_full(
             Ok(Some(Solution { x, scale, rhs }))
         }
         Err(Failure::Singular { equations }) => {
+            cx.system_key = None;
             // the list again, for the diagnosis (a singular matrix is the exception)
             let triplets = system.assemble();
             let singular = SingularMatrix {
@@ -161,11 +163,14 @@ fn solve_full(
                 yielded_soil: linear.soil_trial.tangents.iter().any(|t| t.is_some()),
             };
             match singular::recover(cx, dofs, state, &mut it.fallbacks, singular)? {
-                Recovered::NewMatrix => it.matrix_key = None,
+                Recovered::NewMatrix => cx.system_key = None,
                 Recovered::RowsSetAside(changes) => it.state_changes.extend(changes),
             }
             Ok(None)
         }
-        Err(Failure::Other(e)) => Err(IncrementError::Solve(e)),
+        Err(Failure::Other(e)) => {
+            cx.system_key = None;
+            Err(IncrementError::Solve(e))
+        }
     }
 }

@@ -55,7 +55,8 @@ pub fn time_steps(
         .collect();
     let generation = stage.index as u64 + 1;
     let Dashpots { elements: dashpots, input } = dashpots;
-    cx.elements.inertia = Some(Inertia { masses, dashpots, mass: 0.0, stiffness: 0.0, damper: 0.0, generation });
+    let dofs = state.u.len();
+    cx.elements.inertia = Some(Inertia::new(masses, dashpots, generation, &cx.elements.blocks, &state.soil, dofs));
     state.motion = Some(Motion::at_rest(state.u.len(), !plan.compliant_base));
     let stepped = steps(cx, state, stage, plan, &Forces { influence, input }, sink);
     cx.elements.inertia = None;
@@ -91,9 +92,8 @@ fn steps(
         let start = state.motion.clone().expect("a dynamic stage carries its motion");
         let time = target * plan.duration;
         let k = scheme.step(nominal_step(time - start.time, plan.time_step));
-        let (mass, stiffness, damper) = k.operator(plan.rayleigh);
         let inertia = cx.elements.inertia.as_mut().expect("the stage's masses are in place");
-        (inertia.mass, inertia.stiffness, inertia.damper) = (mass, stiffness, damper);
+        inertia.set_coefficients(k.operator(plan.rayleigh), &cx.elements.blocks);
         let soil = soil_of(cx, state, plan);
         let step_start = StepStart::new(&soil, &state.u, &start, &k);
         let (mut ground, mut velocity) = ([0.0; 2], [0.0; 2]);
@@ -116,6 +116,8 @@ fn steps(
             }
         }
         let Some(report) = solved_or_cut_back(cx, stage, state, &snapshot, target)? else { continue };
+        // (before the step commits: the soil's states are no longer shared with the copy)
+        drop(snapshot);
         let soil = soil_of(cx, state, plan);
         let end = step_start.end(&soil, &state.u, &start, &k, time, ground);
         state.motion = Some(end);
@@ -139,8 +141,7 @@ fn steps(
 /// The soil's mass and damping in the stage.
 fn soil_of<'a>(cx: &'a Context, state: &'a State, plan: &DynamicPlan) -> Soil<'a> {
     let inertia = cx.elements.inertia.as_ref().expect("the stage's masses are in place");
-    let (masses, dashpots) = (&inertia.masses, &inertia.dashpots);
-    Soil { elements: &cx.elements, field: &state.soil, masses, dashpots, rayleigh: plan.rayleigh }
+    Soil { elements: &cx.elements, field: &state.soil, inertia, rayleigh: plan.rayleigh }
 }
 
 /// The index of a direction in (x, y).
