@@ -2,8 +2,8 @@
 //!
 //! Reference: the dense Gauss elimination with complete pivoting (Golub & Van Loan, Matrix
 //! Computations, §3.4.2), an independent solution path from faer's sparse LU. Goal: on every file
-//! in examples/ (but the reinforced wall, too large for the dense reference: see
-//! tests/reinforced_wall_example.rs; the embedded pull-out boxes, above 450 nodes, against faer's
+//! in examples/ (but the reinforced and the seismic wall, too large for the dense reference: see
+//! tests/reinforced_wall_example.rs and tests/seismic_wall_example.rs; the embedded pull-out boxes, above 450 nodes, against faer's
 //! LU instead, which the dense reference checks on every smaller model), on yielding Mohr–Coulomb soil, and on the generated pull-out
 //! boxes of every element type, displacements,
 //! multipliers, reactions and bar forces agree to 1e-10 relative (displacements to the largest
@@ -97,9 +97,10 @@ fn every_example_runs_and_every_backend_agrees() {
     for path in files {
         let model = Model::load(&path).unwrap_or_else(|e| panic!("{e}"));
         if model.mesh.nodes.len() > LARGEST_EXAMPLE_NODES {
-            // the reinforced wall: ~2700 unknowns over ~1600 iterations is hours for the dense
-            // reference; tests/reinforced_wall_example.rs runs it, and the yielding-soil model below
-            // checks the same code path on every backend
+            // the reinforced wall and the seismic wall on its mesh: ~2700 unknowns over ~1600
+            // iterations is hours for the dense reference; tests/reinforced_wall_example.rs and
+            // tests/seismic_wall_example.rs run them, and the yielding-soil model below checks the
+            // same code path on every backend
             continue;
         }
         let started = std::time::Instant::now();
