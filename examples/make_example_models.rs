@@ -141,7 +141,7 @@ fn paper_block() -> ModelFile {
     let mut reinforcement = BTreeMap::new();
     reinforcement.insert(
         "geosynthetic".into(),
-        ReinforcementMaterial { axial_stiffness: 1000.0, tension_only: false, rupture_strength: None },
+        ReinforcementMaterial { axial_stiffness: 1000.0, tension_only: false, rupture_strength: None, weight: None },
     );
     ModelFile {
         title: "reinforced soil block (Yi 1996, Fig. 4)".into(),
@@ -233,7 +233,7 @@ fn soil_nail() -> ModelFile {
     let mut reinforcement = BTreeMap::new();
     reinforcement.insert(
         "bar".into(),
-        ReinforcementMaterial { axial_stiffness: 98_000.0, tension_only: false, rupture_strength: None },
+        ReinforcementMaterial { axial_stiffness: 98_000.0, tension_only: false, rupture_strength: None, weight: None },
     );
     ModelFile {
         title: "grouted soil nail pull-out test (axisymmetric)".into(),

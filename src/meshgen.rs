@@ -284,6 +284,7 @@ impl PullOutBox {
                 axial_stiffness: self.axial_stiffness,
                 tension_only: false,
                 rupture_strength: None,
+                weight: None,
             },
         );
         let factors = (1..=self.steps).map(|k| k as f64 / self.steps as f64).collect();

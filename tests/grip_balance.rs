@@ -38,7 +38,7 @@ fn gripped_strip() -> ModelFile {
     let mut reinforcement = BTreeMap::new();
     reinforcement.insert(
         "grid".into(),
-        ReinforcementMaterial { axial_stiffness: 1000.0, tension_only: false, rupture_strength: None },
+        ReinforcementMaterial { axial_stiffness: 1000.0, tension_only: false, rupture_strength: None, weight: None },
     );
     ModelFile {
         title: "gripped strip".into(),

@@ -45,7 +45,12 @@ fn stack_in_shear() -> ModelFile {
     soil.insert("clay".into(), SoilMaterial::linear_elastic(1.0e5, 0.0, 0.0));
     soil.insert("cover".into(), SoilMaterial::linear_elastic(1.0e5, 0.0, 0.0));
     let mut reinforcement = BTreeMap::new();
-    let sheet = |ea: f64| ReinforcementMaterial { axial_stiffness: ea, tension_only: false, rupture_strength: None };
+    let sheet = |ea: f64| ReinforcementMaterial {
+        axial_stiffness: ea,
+        tension_only: false,
+        rupture_strength: None,
+        weight: None,
+    };
     reinforcement.insert("hdpe".into(), sheet(5.0e3));
     reinforcement.insert("nonwoven".into(), sheet(2.0e2));
     let coulomb = |phi: f64| ShearLawSpec::Coulomb { shear_stiffness: 2.0e4, cohesion: 0.0, friction_angle: phi };

@@ -58,7 +58,7 @@ fn nail_in_rigid_ground(law: ShearLawSpec, stage: Stage) -> ModelFile {
     let mut reinforcement = BTreeMap::new();
     reinforcement.insert(
         "nail".into(),
-        ReinforcementMaterial { axial_stiffness: EA, tension_only: false, rupture_strength: None },
+        ReinforcementMaterial { axial_stiffness: EA, tension_only: false, rupture_strength: None, weight: None },
     );
     ModelFile {
         title: "nail in rigid ground".into(),

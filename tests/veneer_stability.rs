@@ -188,7 +188,7 @@ fn lined_slope_with_pull(beta_deg: f64, length: f64, phi_i: f64, phi_soil: f64, 
     let mid_row = |i: usize| (1 + 2 * (n_slope + 1) + i) as u64; // slope_id(i, 2) of `lined_slope`
     file.materials.reinforcement.insert(
         "geogrid".into(),
-        ReinforcementMaterial { axial_stiffness: 1000.0, tension_only: false, rupture_strength: None },
+        ReinforcementMaterial { axial_stiffness: 1000.0, tension_only: false, rupture_strength: None, weight: None },
     );
     file.interfaces.push(InterfaceSpec {
         name: "geogrid".into(),

@@ -25,9 +25,8 @@
 //! step's end. R(u₀) is carried from the step before (zero where the stage starts from a static
 //! equilibrium).
 
-use crate::assembly::inertia::{damping_times, Inertia};
+use crate::assembly::inertia::Inertia;
 use crate::assembly::ElementMatrices;
-use crate::element::soil_state::SoilField;
 
 /// The HHT-α method's parameters.
 #[derive(Debug, Clone, Copy)]
@@ -123,19 +122,18 @@ pub struct StepStart {
 /// The soil's mass and damping, as a step applies them: M·x and C·x = a0·M·x + a1·K·x + B·x.
 pub struct Soil<'a> {
     pub elements: &'a ElementMatrices,
-    pub field: &'a SoilField,
-    /// The masses M and the absorbing sides' dashpots B.
+    /// The masses M (the soil's and the bars') and the absorbing sides' dashpots B.
     pub inertia: &'a Inertia,
     /// Rayleigh's [a0, a1].
     pub rayleigh: [f64; 2],
 }
 
 impl Soil<'_> {
-    /// M·(s·x + a0·w) + a1·K·w + B·w − c·r, in one pass over the soil elements.
+    /// M·(s·x + a0·w) + a1·K·w + B·w − c·r, in one pass over the elements.
     fn damped(&self, x: &[f64], s: f64, w: &[f64], c: f64, r: &[f64]) -> Vec<f64> {
-        let Soil { elements, field, inertia, rayleigh } = *self;
+        let Soil { elements, inertia, rayleigh } = *self;
         let inertial: Vec<f64> = x.iter().zip(w).map(|(x, w)| s * x + rayleigh[0] * w).collect();
-        let mut f = damping_times(inertia, &elements.blocks, field, &inertial, rayleigh[1], w);
+        let mut f = inertia.damping_times(&elements.blocks, &inertial, rayleigh[1], w);
         if c != 0.0 {
             for (f, r) in f.iter_mut().zip(r) {
                 *f -= c * r;

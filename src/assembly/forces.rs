@@ -149,6 +149,10 @@ pub fn bar_force(elements: &ElementMatrices, bars: &BarStates, u: &[f64]) -> Vec
 fn add_bar_forces(f: &mut [f64], elements: &ElementMatrices, bars: &BarStates, u: &[f64]) {
     for (i, bar) in elements.bars.iter().enumerate() {
         let dl = &elements.blocks[bar.block].0;
+        // in a dynamic stage, the bar's inertia (its mass's part of D·u)
+        if let Some(inertia) = &elements.inertia {
+            inertia.add_force(bar.block, dl, u, f, None);
+        }
         let t = bar.force(u, dl, bars, i);
         let e = bar.axis;
         f[dl[0]] -= t * e[0];

@@ -1,30 +1,33 @@
-//! The soil's inertia and damping in a time step: each element's mass matrix M_e, the dashpots B_e
-//! of its absorbing sides, and the coefficients of the step's dynamic operator
-//! D_e = m·M_e + k·K_e + b·B_e (K_e the element's elastic stiffness, for the stiffness-proportional
-//! part of Rayleigh damping). While a dynamic stage runs,
-//! the assembly adds D_e to every present soil element's block and D_e·u_e to its internal force,
-//! so that a time step is solved as an increment of a static problem (docs/dynamics.md).
+//! The inertia and damping in a time step: each element's mass matrix M_e (the soil's and the
+//! bars'), the dashpots B_e of the soil's absorbing sides, and the coefficients of the step's
+//! dynamic operator D_e = m·M_e + k·K_e + b·B_e (K_e a soil element's elastic stiffness, for the
+//! stiffness-proportional part of Rayleigh damping; a bar's D_e is m·M_e alone). While a dynamic
+//! stage runs, the assembly adds D_e to every present element's block and D_e·u_e to its internal
+//! force, so that a time step is solved as an increment of a static problem (docs/dynamics.md).
 
 use super::block_sum::par_block_sum;
-use crate::element::soil_state::SoilField;
 use nalgebra::DMatrix;
 use rayon::prelude::*;
 
-/// The soil elements' masses and dashpots, the dynamic operator's coefficients, and each
-/// element's operator D_e made of them.
+/// The elements' masses and dashpots, the dynamic operator's coefficients, and each element's
+/// operator D_e made of them; indexed by block (the soil elements first, then the bars).
 pub struct Inertia {
-    /// Each soil element's mass matrix, in mesh order.
+    /// Each block's mass matrix (zero for an element not present).
     pub masses: Vec<DMatrix<f64>>,
     /// Each soil element's dashpots on its absorbing sides, if it has any (Lysmer–Kuhlemeyer).
     pub dashpots: Vec<Option<DMatrix<f64>>>,
+    /// Whether each block's element is present in the stage.
+    present: Vec<bool>,
+    /// How many of the blocks are soil elements (the rest are bars).
+    soil: usize,
     /// The assembled M's diagonal over all displacement DOFs when every present element's mass is
     /// lumped (diagonal): M·x is then a product by DOF.
     lumped: Option<Vec<f64>>,
-    /// Each soil element's D_e for the coefficients below (empty before they are set).
+    /// Each block's D_e for the coefficients below (empty before they are set).
     operators: Vec<DMatrix<f64>>,
     /// m, the coefficient of M_e in D_e.
     mass: f64,
-    /// k, the coefficient of the elastic K_e in D_e.
+    /// k, the coefficient of a soil element's elastic K_e in D_e.
     stiffness: f64,
     /// b, the coefficient of the dashpots B_e in D_e.
     damper: f64,
@@ -33,45 +36,67 @@ pub struct Inertia {
 }
 
 impl Inertia {
-    /// The masses and `dashpots` of the soil present in `field` (`blocks`: the soil's blocks, for
-    /// their DOFs), as generation `generation`; D = 0 until [`Inertia::set_coefficients`].
+    /// The `masses` of every block (`blocks`, for their DOFs: the first `dashpots.len()` are the
+    /// soil's) and the soil's `dashpots`, of the elements `present`, as generation `generation`;
+    /// D = 0 until [`Inertia::set_coefficients`].
     pub fn new(
-        masses: Vec<DMatrix<f64>>,
+        mut masses: Vec<DMatrix<f64>>,
         dashpots: Vec<Option<DMatrix<f64>>>,
+        present: Vec<bool>,
         generation: u64,
         blocks: &[(Vec<usize>, DMatrix<f64>)],
-        field: &SoilField,
         dofs: usize,
     ) -> Inertia {
-        let present = |s: &usize| field.elements()[*s].active;
+        let soil = dashpots.len();
+        // (an element not present has no mass: a bar not yet placed is in the matrix's pattern)
+        for (mass, _) in masses.iter_mut().zip(&present).filter(|(_, &p)| !p) {
+            mass.fill(0.0);
+        }
+        let present_blocks = || (0..masses.len()).filter(|&b| present[b]);
         let diagonal = |m: &DMatrix<f64>| (0..m.nrows()).all(|a| (0..m.ncols()).all(|c| a == c || m[(a, c)] == 0.0));
-        let lumped = (0..masses.len()).filter(present).all(|s| diagonal(&masses[s])).then(|| {
+        let lumped = present_blocks().all(|b| diagonal(&masses[b])).then(|| {
             let mut d = vec![0.0; dofs];
-            for s in (0..masses.len()).filter(present) {
-                for (a, &da) in blocks[s].0.iter().enumerate() {
-                    d[da] += masses[s][(a, a)];
+            for b in present_blocks() {
+                for (a, &da) in blocks[b].0.iter().enumerate() {
+                    d[da] += masses[b][(a, a)];
                 }
             }
             d
         });
-        Inertia { masses, dashpots, lumped, operators: Vec::new(), mass: 0.0, stiffness: 0.0, damper: 0.0, generation }
+        Inertia {
+            masses,
+            dashpots,
+            present,
+            soil,
+            lumped,
+            operators: Vec::new(),
+            mass: 0.0,
+            stiffness: 0.0,
+            damper: 0.0,
+            generation,
+        }
     }
 
-    /// D_e = m·M_e + k·K_e + b·B_e of every soil element (`blocks`: the soil's elastic blocks),
-    /// made again only when a coefficient changed (a time step of another length).
+    /// D_e = m·M_e + k·K_e + b·B_e of every soil element and m·M_e of every bar (`blocks`: the
+    /// elements' elastic blocks), made again only when a coefficient changed (a time step of
+    /// another length).
     pub fn set_coefficients(&mut self, (m, k, b): (f64, f64, f64), blocks: &[(Vec<usize>, DMatrix<f64>)]) {
         if !self.operators.is_empty() && (m, k, b) == (self.mass, self.stiffness, self.damper) {
             return;
         }
         (self.mass, self.stiffness, self.damper) = (m, k, b);
+        let soil = self.soil;
         self.operators = self
             .masses
             .par_iter()
-            .zip(&self.dashpots)
             .zip(blocks)
-            .map(|((mass, dashpot), (_, elastic))| {
+            .enumerate()
+            .map(|(e, (mass, (_, elastic)))| {
+                if e >= soil {
+                    return mass * m;
+                }
                 let mut d = mass * m + elastic * k;
-                if let Some(dashpot) = dashpot {
+                if let Some(dashpot) = &self.dashpots[e] {
                     d += dashpot * b;
                 }
                 d
@@ -79,15 +104,15 @@ impl Inertia {
             .collect();
     }
 
-    /// D_e's entry (a, c) of soil element `s`.
-    pub fn entry(&self, s: usize, a: usize, c: usize) -> f64 {
-        self.operators.get(s).map_or(0.0, |d| d[(a, c)])
+    /// D_e's entry (a, c) of block `e`.
+    pub fn entry(&self, e: usize, a: usize, c: usize) -> f64 {
+        self.operators.get(e).map_or(0.0, |d| d[(a, c)])
     }
 
-    /// D_e·u_e of soil element `s` (DOFs `dl`) added into `f`, and, with `magnitudes` (the second
-    /// half of `f`, from `n` on), the magnitudes of its terms.
-    pub fn add_force(&self, s: usize, dl: &[usize], u: &[f64], f: &mut [f64], magnitudes: Option<usize>) {
-        let Some(d) = self.operators.get(s) else { return };
+    /// D_e·u_e of block `e` (DOFs `dl`) added into `f`, and, with `magnitudes` (the second half of
+    /// `f`, from `n` on), the magnitudes of its terms.
+    pub fn add_force(&self, e: usize, dl: &[usize], u: &[f64], f: &mut [f64], magnitudes: Option<usize>) {
+        let Some(d) = self.operators.get(e) else { return };
         // (by columns, as the matrices are stored; at most 16 DOFs to an element, a quad8's)
         let n = dl.len();
         debug_assert!(n <= 18);
@@ -114,68 +139,61 @@ impl Inertia {
     pub fn key(&self) -> (u64, u64, u64, u64) {
         (self.generation, self.mass.to_bits(), self.stiffness.to_bits(), self.damper.to_bits())
     }
-}
 
-/// M·x over all displacement DOFs: the present soil elements' masses (`blocks`: the soil blocks,
-/// for their DOFs).
-pub fn mass_times(
-    masses: &[DMatrix<f64>],
-    blocks: &[(Vec<usize>, DMatrix<f64>)],
-    field: &SoilField,
-    x: &[f64],
-) -> Vec<f64> {
-    let soil = field.elements().len();
-    par_block_sum(&blocks[..soil], soil, x.len(), |s, dl, _, y| {
-        if field.elements()[s].active {
-            add_product(&masses[s], dl, x, y);
+    /// M·x over all displacement DOFs (`blocks`: the elements', for their DOFs).
+    pub fn mass_times(&self, blocks: &[(Vec<usize>, DMatrix<f64>)], x: &[f64]) -> Vec<f64> {
+        if let Some(diagonal) = &self.lumped {
+            return diagonal.iter().zip(x).map(|(m, x)| m * x).collect();
         }
-    })
-}
-
-/// M·x + k·K·w + B·w over all displacement DOFs, in one pass over the present soil elements: their
-/// masses (or the lumped diagonal, by DOF), elastic stiffness (`blocks`, the stiffness-proportional
-/// damping's K) and dashpots.
-pub fn damping_times(
-    inertia: &Inertia,
-    blocks: &[(Vec<usize>, DMatrix<f64>)],
-    field: &SoilField,
-    x: &[f64],
-    k: f64,
-    w: &[f64],
-) -> Vec<f64> {
-    let Inertia { masses, dashpots, lumped, .. } = inertia;
-    let soil = field.elements().len();
-    let any_dashpot = dashpots.iter().any(Option::is_some);
-    if let (Some(diagonal), 0.0, false) = (lumped, k, any_dashpot) {
-        return diagonal.iter().zip(x).map(|(m, x)| m * x).collect();
+        let count = self.masses.len();
+        par_block_sum(&blocks[..count], count, x.len(), |e, dl, _, y| {
+            if self.present[e] {
+                add_product(&self.masses[e], dl, x, y);
+            }
+        })
     }
-    let mut f = par_block_sum(&blocks[..soil], soil, x.len(), |s, dl, stiffness, y| {
-        if !field.elements()[s].active {
-            return;
+
+    /// M·x + k·K·w + B·w over all displacement DOFs, in one pass over the present elements: their
+    /// masses (or the lumped diagonal, by DOF), the soil's elastic stiffness (`blocks`, the
+    /// stiffness-proportional damping's K) and dashpots.
+    pub fn damping_times(&self, blocks: &[(Vec<usize>, DMatrix<f64>)], x: &[f64], k: f64, w: &[f64]) -> Vec<f64> {
+        let Inertia { masses, dashpots, present, soil, lumped, .. } = self;
+        let any_dashpot = dashpots.iter().any(Option::is_some);
+        if let (Some(diagonal), 0.0, false) = (lumped, k, any_dashpot) {
+            return diagonal.iter().zip(x).map(|(m, x)| m * x).collect();
         }
-        if lumped.is_none() {
-            add_product(&masses[s], dl, x, y);
-        }
-        if k != 0.0 {
-            let n = dl.len();
-            let kk = stiffness.as_slice();
-            for (c, &dc) in dl.iter().enumerate() {
-                let wc = k * w[dc];
-                for (a, &da) in dl.iter().enumerate() {
-                    y[da] += kk[c * n + a] * wc;
+        let count = masses.len();
+        let mut f = par_block_sum(&blocks[..count], count, x.len(), |e, dl, stiffness, y| {
+            if !present[e] {
+                return;
+            }
+            if lumped.is_none() {
+                add_product(&masses[e], dl, x, y);
+            }
+            if e >= *soil {
+                return;
+            }
+            if k != 0.0 {
+                let n = dl.len();
+                let kk = stiffness.as_slice();
+                for (c, &dc) in dl.iter().enumerate() {
+                    let wc = k * w[dc];
+                    for (a, &da) in dl.iter().enumerate() {
+                        y[da] += kk[c * n + a] * wc;
+                    }
                 }
             }
+            if let Some(b) = &dashpots[e] {
+                add_product(b, dl, w, y);
+            }
+        });
+        if let Some(diagonal) = lumped {
+            for ((f, m), x) in f.iter_mut().zip(diagonal).zip(x) {
+                *f += m * x;
+            }
         }
-        if let Some(b) = &dashpots[s] {
-            add_product(b, dl, w, y);
-        }
-    });
-    if let Some(diagonal) = lumped {
-        for ((f, m), x) in f.iter_mut().zip(diagonal).zip(x) {
-            *f += m * x;
-        }
+        f
     }
-    f
 }
 
 /// m·x of one element (DOFs `dl`) added into `y`.

@@ -265,8 +265,8 @@ impl SystemInputs<'_> {
             } else {
                 elastic
             };
-            // a soil element's inertia and damping in a dynamic stage
-            let inertia = elements.inertia.as_ref().filter(|_| e < first_bar);
+            // an element's inertia and damping in a dynamic stage
+            let inertia = elements.inertia.as_ref();
             // a ruptured or not yet placed bar keeps its place in the pattern with no stiffness
             let factor = if e >= first_bar && bars.idle(e - first_bar) { 0.0 } else { 1.0 };
             for (a, &da) in dl.iter().enumerate() {

@@ -25,6 +25,23 @@ pub enum Lumping {
     Consistent,
 }
 
+/// A bar's mass matrix (4 × 4, DOF order ux1, uy1, ux2, uy2) for its total mass `mass`: half at
+/// each node (lumped), or ∫ m̄·NᵀN ds, `mass`/6·[2 1; 1 2] in each direction (consistent).
+pub fn bar_mass(mass: f64, lumping: Lumping) -> DMatrix<f64> {
+    DMatrix::from_fn(4, 4, |a, c| match lumping {
+        Lumping::Lumped => {
+            if a == c {
+                mass / 2.0
+            } else {
+                0.0
+            }
+        }
+        Lumping::Consistent if a == c => mass / 3.0,
+        Lumping::Consistent if a % 2 == c % 2 => mass / 6.0,
+        Lumping::Consistent => 0.0,
+    })
+}
+
 /// The element's mass matrix (2n × 2n, DOF order ux1, uy1, ux2, …) for the density `density` at a
 /// point [mass/length³], of an element the model's validation accepted. The integral is taken
 /// with det J as it is at each point: its rule's points are not those the validation checked (a

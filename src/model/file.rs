@@ -386,6 +386,11 @@ pub struct ReinforcementMaterial {
     /// mechanics.
     #[serde(default)]
     pub rupture_strength: Option<f64>,
+    /// Its weight per unit length of the member, per metre width as `axial_stiffness` (a
+    /// geogrid's weight per unit area; in axisymmetry, the member's weight per metre)
+    /// [force/length²]: its mass in a dynamic stage is the weight over g. Default none: no mass.
+    #[serde(default)]
+    pub weight: Option<f64>,
 }
 
 /// `[id, x, y]` (read to its exact length: `rows.rs`).

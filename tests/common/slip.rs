@@ -24,8 +24,10 @@ pub fn bar_in_rigid_soil(
     let mut soil = BTreeMap::new();
     soil.insert("bed".into(), SoilMaterial::linear_elastic(1.0e5, 0.3, 0.0));
     let mut reinforcement = BTreeMap::new();
-    reinforcement
-        .insert("grid".into(), ReinforcementMaterial { axial_stiffness, tension_only: false, rupture_strength: None });
+    reinforcement.insert(
+        "grid".into(),
+        ReinforcementMaterial { axial_stiffness, tension_only: false, rupture_strength: None, weight: None },
+    );
     ModelFile {
         title: "reinforcement in rigid soil".into(),
         units: Units { length: LengthUnit::Metre, force: ForceUnit::Kilonewton },

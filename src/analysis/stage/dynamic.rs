@@ -17,8 +17,9 @@ use super::complete::complete_increment;
 use super::cutback::solved_or_cut_back;
 use super::placement::reactions;
 use super::progress::{Increment, Stage};
-use crate::assembly::inertia::{mass_times, Inertia};
+use crate::assembly::inertia::Inertia;
 use crate::dofs::Direction;
+use crate::element::mass::bar_mass;
 use crate::error::Error;
 use crate::model::DynamicPlan;
 use std::time::Instant;
@@ -31,7 +32,14 @@ pub fn time_steps(
     plan: &DynamicPlan,
     sink: &mut dyn StepSink,
 ) -> Result<(), Error> {
-    let masses = soil::masses(cx.model, &state.soil, plan.gravity, plan.lumping);
+    // every block's mass (the soil's, then the bars'), and whether its element is present
+    let mut masses = soil::masses(cx.model, &state.soil, plan.gravity, plan.lumping);
+    let mut present: Vec<bool> = state.soil.elements().iter().map(|e| e.active).collect();
+    for (i, bar) in cx.elements.bars.iter().enumerate() {
+        let weight = cx.model.reinforcements[cx.model.mesh.bars[i].material].1.weight.unwrap_or(0.0);
+        masses.push(bar_mass(weight * bar.length / plan.gravity, plan.lumping));
+        present.push(!state.bars.absent[i]);
+    }
     let dashpots = Dashpots::new(cx.model, &state.soil, plan);
     // the freed supports' reactions stay on as forces
     let f_ext_before = stage.progress.f_ext_start.clone();
@@ -39,24 +47,24 @@ pub fn time_steps(
         stage.progress.f_ext_start[d] += r;
         state.f_ext[d] += r;
     }
-    // on a rigid base, the ground's acceleration in each direction puts −M·ι_d·a_g,d(t) on the soil
+    let generation = stage.index as u64 + 1;
+    let Dashpots { elements: dashpots, input } = dashpots;
+    let inertia = Inertia::new(masses, dashpots, present, generation, &cx.elements.blocks, state.u.len());
+    // on a rigid base, the ground's acceleration in each direction puts −M·ι_d·a_g,d(t) on the
+    // soil and the bars
     let influence: Vec<(Direction, Vec<f64>)> = plan
         .base_motion
         .iter()
         .filter(|_| !plan.compliant_base)
         .map(|(d, _)| {
             let mut iota = vec![0.0; state.u.len()];
-            let first = if *d == Direction::X { 0 } else { 1 };
-            for v in iota.iter_mut().skip(first).step_by(2) {
+            for v in iota.iter_mut().skip(index(*d)).step_by(2) {
                 *v = 1.0;
             }
-            (*d, mass_times(&masses, &cx.elements.blocks, &state.soil, &iota))
+            (*d, inertia.mass_times(&cx.elements.blocks, &iota))
         })
         .collect();
-    let generation = stage.index as u64 + 1;
-    let Dashpots { elements: dashpots, input } = dashpots;
-    let dofs = state.u.len();
-    cx.elements.inertia = Some(Inertia::new(masses, dashpots, generation, &cx.elements.blocks, &state.soil, dofs));
+    cx.elements.inertia = Some(inertia);
     state.motion = Some(Motion::at_rest(state.u.len(), !plan.compliant_base));
     let stepped = steps(cx, state, stage, plan, &Forces { influence, input }, sink);
     cx.elements.inertia = None;
@@ -94,7 +102,7 @@ fn steps(
         let k = scheme.step(nominal_step(time - start.time, plan.time_step));
         let inertia = cx.elements.inertia.as_mut().expect("the stage's masses are in place");
         inertia.set_coefficients(k.operator(plan.rayleigh), &cx.elements.blocks);
-        let soil = soil_of(cx, state, plan);
+        let soil = soil_of(cx, plan);
         let step_start = StepStart::new(&soil, &state.u, &start, &k);
         let (mut ground, mut velocity) = ([0.0; 2], [0.0; 2]);
         for (d, motion) in &plan.base_motion {
@@ -118,7 +126,7 @@ fn steps(
         let Some(report) = solved_or_cut_back(cx, stage, state, &snapshot, target)? else { continue };
         // (before the step commits: the soil's states are no longer shared with the copy)
         drop(snapshot);
-        let soil = soil_of(cx, state, plan);
+        let soil = soil_of(cx, plan);
         let end = step_start.end(&soil, &state.u, &start, &k, time, ground);
         state.motion = Some(end);
         stage.step += 1;
@@ -138,10 +146,10 @@ fn steps(
     Ok(())
 }
 
-/// The soil's mass and damping in the stage.
-fn soil_of<'a>(cx: &'a Context, state: &'a State, plan: &DynamicPlan) -> Soil<'a> {
+/// The mass and damping in the stage.
+fn soil_of<'a>(cx: &'a Context, plan: &DynamicPlan) -> Soil<'a> {
     let inertia = cx.elements.inertia.as_ref().expect("the stage's masses are in place");
-    Soil { elements: &cx.elements, field: &state.soil, inertia, rayleigh: plan.rayleigh }
+    Soil { elements: &cx.elements, inertia, rayleigh: plan.rayleigh }
 }
 
 /// The index of a direction in (x, y).

@@ -139,6 +139,11 @@ pub(super) fn materials(d: &mut Draft, file: &ModelFile, p: &mut Problems) {
                 p.push(f("rupture_strength"), &entity, format!("must be a positive number, found {t}"));
             }
         }
+        if let Some(w) = m.weight {
+            if !(w.is_finite() && w >= 0.0) {
+                p.push(f("weight"), &entity, format!("must be a number ≥ 0, found {w}"));
+            }
+        }
     }
     d.soil_index = d.soils.iter().enumerate().map(|(i, (n, _))| (n.clone(), i)).collect();
     d.reinf_index = d.reinforcements.iter().enumerate().map(|(i, (n, _))| (n.clone(), i)).collect();
