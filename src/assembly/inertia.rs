@@ -16,6 +16,8 @@ pub struct Inertia {
     pub masses: Vec<DMatrix<f64>>,
     /// Each soil element's dashpots on its absorbing sides, if it has any (Lysmer–Kuhlemeyer).
     pub dashpots: Vec<Option<DMatrix<f64>>>,
+    /// Whether any soil element has dashpots.
+    any_dashpot: bool,
     /// Whether each block's element is present in the stage.
     present: Vec<bool>,
     /// How many of the blocks are soil elements (the rest are bars).
@@ -65,6 +67,7 @@ impl Inertia {
         });
         Inertia {
             masses,
+            any_dashpot: dashpots.iter().any(Option::is_some),
             dashpots,
             present,
             soil,
@@ -157,9 +160,8 @@ impl Inertia {
     /// masses (or the lumped diagonal, by DOF), the soil's elastic stiffness (`blocks`, the
     /// stiffness-proportional damping's K) and dashpots.
     pub fn damping_times(&self, blocks: &[(Vec<usize>, DMatrix<f64>)], x: &[f64], k: f64, w: &[f64]) -> Vec<f64> {
-        let Inertia { masses, dashpots, present, soil, lumped, .. } = self;
-        let any_dashpot = dashpots.iter().any(Option::is_some);
-        if let (Some(diagonal), 0.0, false) = (lumped, k, any_dashpot) {
+        let Inertia { masses, dashpots, any_dashpot, present, soil, lumped, .. } = self;
+        if let (Some(diagonal), 0.0, false) = (lumped, k, *any_dashpot) {
             return diagonal.iter().zip(x).map(|(m, x)| m * x).collect();
         }
         let count = masses.len();
