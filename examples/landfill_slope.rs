@@ -43,7 +43,13 @@ struct Keep {
 }
 
 impl StepSink for Keep {
-    fn step_done(&mut self, step: &StepResults, record: &StepRecord, _: &RunStats) -> Result<(), Error> {
+    fn step_done(
+        &mut self,
+        model: &geoslip::model::Model,
+        step: &StepResults,
+        record: &StepRecord,
+        _: &RunStats,
+    ) -> Result<(), Error> {
         match record.strength_factor {
             Some(f) => self.at_fs = Some((f, step.clone())),
             None => self.built = Some(step.clone()),
@@ -315,7 +321,7 @@ fn run() -> Result<(), Error> {
     for (face, sliding, all) in &faces {
         let _ = writeln!(md, "- {face}: {sliding} of {all} points at their (reduced) strength");
     }
-    let yielding = at_fs.stresses.iter().filter(|s| s.yield_state.is_plastic()).count();
+    let yielding = at_fs.stresses(&model).iter().filter(|s| s.yield_state.is_plastic()).count();
     let _ = writeln!(md, "- soil: {yielding} Gauss points on the (reduced) yield surface\n");
     folder.write("slope-report.md", md.as_bytes())?;
     println!("{}", std::fs::read_to_string(dir.join("layers.csv")).unwrap_or_default());

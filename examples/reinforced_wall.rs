@@ -33,7 +33,13 @@ struct Keep {
 }
 
 impl StepSink for Keep {
-    fn step_done(&mut self, step: &StepResults, _: &StepRecord, _: &RunStats) -> Result<(), Error> {
+    fn step_done(
+        &mut self,
+        model: &geoslip::model::Model,
+        step: &StepResults,
+        _: &StepRecord,
+        _: &RunStats,
+    ) -> Result<(), Error> {
         self.last = Some(step.clone());
         Ok(())
     }

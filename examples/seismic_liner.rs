@@ -41,7 +41,13 @@ struct Slip {
 }
 
 impl StepSink for Slip {
-    fn step_done(&mut self, step: &StepResults, record: &StepRecord, _: &RunStats) -> Result<(), Error> {
+    fn step_done(
+        &mut self,
+        _: &geoslip::model::Model,
+        step: &StepResults,
+        record: &StepRecord,
+        _: &RunStats,
+    ) -> Result<(), Error> {
         let points: Vec<f64> =
             step.interface_points.iter().filter(|p| p.interface == "liner").map(|p| p.slip).collect();
         let mean = points.iter().sum::<f64>() / points.len().max(1) as f64;

@@ -36,7 +36,13 @@ const MIN_FILES: usize = 30;
 struct Discard;
 
 impl StepSink for Discard {
-    fn step_done(&mut self, _: &StepResults, _: &StepRecord, _: &RunStats) -> Result<(), Error> {
+    fn step_done(
+        &mut self,
+        _: &geoslip::model::Model,
+        _: &StepResults,
+        _: &StepRecord,
+        _: &RunStats,
+    ) -> Result<(), Error> {
         Ok(())
     }
 }

@@ -148,7 +148,8 @@ fn the_compacted_column_keeps_the_lateral_stress_of_the_closed_form() {
         let (placed, loaded, removed) =
             (last_of("lift"), last_of("lift: compaction"), last_of("lift: compaction removed"));
         let (mut locked, mut worst) = (f64::INFINITY, 0.0f64);
-        for ((p0, p1), p2) in placed.stresses.iter().zip(&loaded.stresses).zip(&removed.stresses) {
+        for ((p0, p1), p2) in placed.stresses(&model).iter().zip(loaded.stresses(&model)).zip(removed.stresses(&model))
+        {
             let depth = HEIGHT - p0.x[1];
             let sv0 = GAMMA * depth;
             let (sv1, sv2) = (sv0 + PRESSURE, sv0);

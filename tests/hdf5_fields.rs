@@ -75,7 +75,7 @@ fn names(list: &[&str]) -> BTreeSet<String> {
 fn soil_averages(model: &Model, r: &StepResults) -> Vec<(usize, [f64; 6], [f64; 6], f64, f64, f64)> {
     let index: HashMap<u64, usize> = model.mesh.solids.iter().enumerate().map(|(i, s)| (s.id, i)).collect();
     let mut sums: Vec<Option<([f64; 4], [f64; 3], f64, f64, f64, usize)>> = vec![None; model.mesh.solids.len()];
-    for g in &r.stresses {
+    for g in r.stresses(&model) {
         let e = sums[index[&g.element]].get_or_insert(([0.0; 4], [0.0; 3], 0.0, 0.0, 0.0, 0));
         for k in 0..4 {
             e.0[k] += g.stress[k];

@@ -40,7 +40,7 @@ fn normal_stress_on_both_faces_equals_the_overburden() {
         }
         // and the soil's vertical stress is the oedometric one, σyy = −(q + γ(0.4 − y)); a quad4's
         // εyy is constant in y, so each element carries the value at its mid-height (y = 0.1 or 0.3)
-        for s in &first.stresses {
+        for s in first.stresses(&model) {
             let mid = if s.x[1] < 0.2 { 0.1 } else { 0.3 };
             let exact = -(20.0 + 19.0 * (0.4 - mid));
             assert!((s.stress[1] - exact).abs() < 1e-9 * 30.0, "element {}: σyy {} vs {exact}", s.element, s.stress[1]);

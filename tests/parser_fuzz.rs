@@ -184,6 +184,7 @@ struct Saved(Vec<Checkpoint>);
 impl StepSink for Saved {
     fn step_done(
         &mut self,
+        _: &geoslip::model::Model,
         _: &analysis::results::StepResults,
         _: &analysis::StepRecord,
         _: &RunStats,

@@ -92,10 +92,10 @@ fn matches_lame(kind: SolidKind, rings: usize, tolerance: f64) {
         // O(h) at the off-centre Gauss points of a quad4 and only O(h²) at its centre
         let mut points: Vec<([f64; 2], [f64; 4])> = Vec::new();
         if kind.is_quadratic() {
-            points.extend(r.stresses.iter().map(|s| (s.x, s.stress)));
+            points.extend(r.stresses(&model).iter().map(|s| (s.x, s.stress)));
         } else {
             let mut by_element: BTreeMap<u64, Vec<&geoslip::analysis::soil::ElementStress>> = BTreeMap::new();
-            for s in &r.stresses {
+            for s in r.stresses(&model) {
                 by_element.entry(s.element).or_default().push(s);
             }
             for group in by_element.values() {

@@ -59,20 +59,20 @@ fn fails_at_the_mohr_coulomb_deviator(kind: SolidKind) {
     for backend in Backend::available() {
         let c = common::run(&model, backend);
         // after the cell pressure: isotropic q everywhere
-        for s in &c.steps[0].1.stresses {
+        for s in c.steps[0].1.stresses(&model) {
             for k in [0, 1, 3] {
                 assert!((s.stress[k] + Q).abs() < 1e-6 * Q, "{kind:?}/{backend:?}: cell pressure {:?}", s.stress);
             }
         }
         let last = &c.last().unwrap();
-        for s in &last.stresses {
+        for s in last.stresses(&model) {
             let [sr, sz, trz, st] = s.stress;
             assert!((sr + Q).abs() < 1e-6 * Q && (st + Q).abs() < 1e-6 * Q, "{kind:?}/{backend:?}: σr {sr}, σθ {st}");
             assert!((sz + sigma_1).abs() < 1e-6 * Q, "{kind:?}/{backend:?}: σz {sz} against −{sigma_1}");
             assert!(trz.abs() < 1e-6 * Q);
         }
         assert!(
-            last.stresses.iter().all(|s| s.yield_state.is_plastic()),
+            last.stresses(&model).iter().all(|s| s.yield_state.is_plastic()),
             "{kind:?}/{backend:?}: not every point yields"
         );
     }

@@ -6,8 +6,8 @@
 //! converged step: the `KeyboardInterrupt` raised carries the completed steps as `.results`.
 
 use geoslip::analysis::results::StepResults;
-use geoslip::analysis::{Collect, RunOptions, StepRecord, StepSink};
 use geoslip::analysis::RunStats;
+use geoslip::analysis::{Collect, RunOptions, StepRecord, StepSink};
 use geoslip::linsol::Backend;
 use geoslip::model::file::ModelFile;
 use geoslip::output::ResultWriter;
@@ -187,11 +187,12 @@ struct Observer {
 impl StepSink for Observer {
     fn step_done(
         &mut self,
+        model: &geoslip::model::Model,
         step: &StepResults,
         record: &StepRecord,
         stats: &RunStats,
     ) -> Result<(), geoslip::Error> {
-        self.steps.step_done(step, record, stats)?;
+        self.steps.step_done(model, step, record, stats)?;
         let stopped = Python::with_gil(|py| -> PyResult<()> {
             if let Some(callback) = &self.progress {
                 callback.call1(py, (record.stage.clone(), record.step, record.load_factor))?;
@@ -306,7 +307,7 @@ fn results(
         interface.set_item("slip", array(py, p.iter().map(|p| p.slip).collect()))?;
         interface.set_item("sliding", PyList::new(py, p.iter().map(|p| p.sliding))?)?;
         step.set_item("interface", interface)?;
-        let g = &s.stresses;
+        let g = s.stresses(model);
         let soil = PyDict::new(py);
         soil.set_item("element", ids(py, g.iter().map(|g| g.element)))?;
         soil.set_item("point", ids(py, g.iter().map(|g| g.point as u64)))?;

@@ -44,6 +44,21 @@ pub struct Context<'a> {
     pub applied_weight: Vec<f64>,
     /// The mesh's characteristic length (the scale of gaps and of the force floor).
     pub characteristic: f64,
+    /// The elements' force at the end of the last time step of a dynamic stage, for the next
+    /// step's first right-hand side ([`Context::take_carried_force`]).
+    pub carried_force: Option<CarriedForce>,
+}
+
+/// The soil's and the bars' force with the dynamic operator's D·u (`assembly::soil_and_bar_force`)
+/// as a time step's closing check found it, at the displacements and with the D it was found for.
+/// The soil's and bars' states it was found with are the ones the step committed.
+pub struct CarriedForce {
+    pub u: Vec<f64>,
+    /// The dynamic operator's key ([`Inertia::key`](crate::assembly::inertia::Inertia::key)).
+    pub operator: (u64, u64, u64, u64),
+    pub force: Vec<f64>,
+    /// The out-of-balance force's round-off floor found with it.
+    pub floor: f64,
 }
 
 impl<'a> Context<'a> {
@@ -85,11 +100,22 @@ impl<'a> Context<'a> {
             gravity: 0.0,
             applied_weight: vec![0.0; dof_count],
             characteristic: model.mesh.characteristic_length(),
+            carried_force: None,
         })
     }
 }
 
 impl Context<'_> {
+    /// The elements' force carried from the last time step, if the displacements `u` and the
+    /// dynamic operator are still the ones it was found for (a step of the same length from where
+    /// the last one ended): the elements' part of an increment's first right-hand side, saving a
+    /// pass over the elements. Taken once.
+    pub fn take_carried_force(&mut self, u: &[f64]) -> Option<(Vec<f64>, f64)> {
+        let carried = self.carried_force.take()?;
+        let operator = self.elements.inertia.as_ref()?.key();
+        (carried.operator == operator && carried.u == u).then_some((carried.force, carried.floor))
+    }
+
     /// The active-set rules for a stage's DOFs, with the nodes in place now.
     pub fn active_set<'b>(&'b self, dofs: &'b DofMap, placed: &'b [bool]) -> ActiveSet<'b> {
         ActiveSet {

@@ -5,9 +5,11 @@ pub use super::soil::ElementStress;
 use super::springs::SpringResult;
 use super::state::State;
 use crate::assembly::{add_spring_forces, ElementMatrices};
+use crate::element::soil_state::SoilField;
 use crate::interface::rows::{constraint_force, row_dofs, InterfaceRows};
 use crate::interface::ShearLaw;
 use crate::model::Model;
+use std::sync::OnceLock;
 
 #[derive(Debug, Clone)]
 pub struct Reaction {
@@ -65,7 +67,8 @@ pub struct StepResults {
     pub reactions: Vec<Reaction>,
     pub bar_forces: Vec<BarForce>,
     pub interface_points: Vec<InterfacePointResult>,
-    pub stresses: Vec<ElementStress>,
+    /// The soil's Gauss-point results, made when first asked for ([`StepResults::stresses`]).
+    soil: GaussResults,
     /// Reactions over every held DOF (2·node + d), zero where free.
     pub reaction_vector: Vec<f64>,
     pub displacement_vector: Vec<f64>,
@@ -196,18 +199,53 @@ impl StepResults {
             }
         }
 
-        let stresses = super::soil::gauss_results(model, &state.soil, &state.u);
         StepResults {
             displacements,
             reactions,
             bar_forces,
             interface_points,
-            stresses,
+            soil: GaussResults { field: Some(state.soil.clone()), made: OnceLock::new() },
             reaction_vector,
             displacement_vector: state.u.clone(),
             motion: state.motion.clone(),
         }
     }
+
+    /// The soil's stresses, strains and pore pressures at every Gauss point of every present
+    /// element (element by element), of the step run on `model`: made at the first call, from the
+    /// soil's states and displacements the step kept.
+    pub fn stresses(&self, model: &Model) -> &[ElementStress] {
+        let GaussResults { field, made } = &self.soil;
+        made.get_or_init(|| match field {
+            Some(field) => super::soil::gauss_results(model, field, &self.displacement_vector),
+            None => Vec::new(),
+        })
+    }
+
+    /// A copy of the step to keep: its Gauss-point results made now, without the soil's states
+    /// they are made of (which would otherwise be copied when the run changes them).
+    pub fn kept(&self, model: &Model) -> StepResults {
+        StepResults {
+            displacements: self.displacements.clone(),
+            reactions: self.reactions.clone(),
+            bar_forces: self.bar_forces.clone(),
+            interface_points: self.interface_points.clone(),
+            soil: GaussResults { field: None, made: OnceLock::from(self.stresses(model).to_vec()) },
+            reaction_vector: self.reaction_vector.clone(),
+            displacement_vector: self.displacement_vector.clone(),
+            motion: self.motion.clone(),
+        }
+    }
+}
+
+/// A step's Gauss-point results, made only when asked for: a run that writes the fields of one
+/// step in fifty (a dynamic stage's thousands of time steps) makes them for that one. The soil's
+/// states are shared with the run's until the run changes them.
+#[derive(Debug, Clone)]
+struct GaussResults {
+    /// The soil's states at the step (`None` once the results are made, in a kept copy).
+    field: Option<SoilField>,
+    made: OnceLock<Vec<ElementStress>>,
 }
 
 /// The force balance of one reinforcement in one step: the forces applied to its nodes (reactions
@@ -235,6 +273,9 @@ pub struct ReinforcementBalance {
 /// the interface forces balance what is applied to it. In a stack of geosynthetics the faces
 /// between layers act on both and cancel: the faces against the soil carry the stack.
 pub fn reinforcement_balance(model: &Model, results: &StepResults, state: &State) -> Vec<ReinforcementBalance> {
+    if state.interfaces.is_empty() {
+        return Vec::new();
+    }
     let mut in_soil = vec![false; model.mesh.nodes.len()];
     for s in &model.mesh.solids {
         for &n in &s.nodes {

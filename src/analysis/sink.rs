@@ -6,10 +6,19 @@ use super::results::{ReinforcementBalance, StepResults};
 use super::stats::RunStats;
 use crate::error::Error;
 use crate::interface::reassociate::Reassociation;
+use crate::model::Model;
 
 /// Receives each converged step as soon as it exists, so that a later failure never loses it.
 pub trait StepSink {
-    fn step_done(&mut self, step: &StepResults, record: &StepRecord, stats: &RunStats) -> Result<(), Error>;
+    /// Step `step` of a run of `model` (whose Gauss-point results it makes, if it wants them:
+    /// [`StepResults::stresses`]).
+    fn step_done(
+        &mut self,
+        model: &Model,
+        step: &StepResults,
+        record: &StepRecord,
+        stats: &RunStats,
+    ) -> Result<(), Error>;
 
     /// The result of a strength-reduction stage, after its last step.
     fn factor_of_safety(&mut self, _fs: &FactorOfSafety) -> Result<(), Error> {
@@ -47,7 +56,8 @@ pub struct FactorOfSafety {
     pub failure: Option<String>,
 }
 
-/// Keeps every converged step in memory (for tests and for programs that use geoslip as a library).
+/// Keeps every converged step in memory, its Gauss-point results made (for tests and for programs
+/// that use geoslip as a library).
 #[derive(Debug, Default)]
 pub struct Collect {
     pub steps: Vec<(StepRecord, StepResults)>,
@@ -55,8 +65,8 @@ pub struct Collect {
 }
 
 impl StepSink for Collect {
-    fn step_done(&mut self, step: &StepResults, record: &StepRecord, _: &RunStats) -> Result<(), Error> {
-        self.steps.push((record.clone(), step.clone()));
+    fn step_done(&mut self, model: &Model, step: &StepResults, record: &StepRecord, _: &RunStats) -> Result<(), Error> {
+        self.steps.push((record.clone(), step.kept(model)));
         Ok(())
     }
 

@@ -110,12 +110,17 @@ impl Motion {
     }
 }
 
-/// One step from `motion` (at displacements `u0`) under the coefficients `k` and Rayleigh's
-/// `[a0, a1]`: what the step's end follows from its displacements u₁, as a₁ = c0·u₁ + p and
-/// v₁ = c1·u₁ + q, and the constant force h of the step's equation.
+/// One step from `motion` (at displacements `u0`) under the coefficients `k`: what the step's end
+/// follows from its displacements u₁, as a₁ = c0·u₁ + p and v₁ = c1·u₁ + q, and the constant force
+/// h of the step's equation; with the images of p and q under M and C.
 pub struct StepStart {
     p: Vec<f64>,
     q: Vec<f64>,
+    /// M·p, M·q, C·p, C·q.
+    mp: Vec<f64>,
+    mq: Vec<f64>,
+    cp: Vec<f64>,
+    cq: Vec<f64>,
     pub constant: Vec<f64>,
 }
 
@@ -129,49 +134,110 @@ pub struct Soil<'a> {
 }
 
 impl Soil<'_> {
-    /// M·(s·x + a0·w) + a1·K·w + B·w − c·r, in one pass over the elements.
-    fn damped(&self, x: &[f64], s: f64, w: &[f64], c: f64, r: &[f64]) -> Vec<f64> {
-        let Soil { elements, inertia, rayleigh } = *self;
-        let inertial: Vec<f64> = x.iter().zip(w).map(|(x, w)| s * x + rayleigh[0] * w).collect();
-        let mut f = inertia.damping_times(&elements.blocks, &inertial, rayleigh[1], w);
-        if c != 0.0 {
-            for (f, r) in f.iter_mut().zip(r) {
-                *f -= c * r;
-            }
+    /// Whether C = 0: no Rayleigh damping and no dashpots.
+    fn undamped(&self) -> bool {
+        self.rayleigh == [0.0, 0.0] && !self.inertia.has_dashpots()
+    }
+
+    /// M·x.
+    fn mass_times(&self, x: &[f64]) -> Vec<f64> {
+        self.inertia.mass_times(&self.elements.blocks, x)
+    }
+
+    /// C·x = a0·M·x + a1·K·x + B·x, in one pass over the elements.
+    fn damping_times(&self, x: &[f64]) -> Vec<f64> {
+        if self.undamped() {
+            return vec![0.0; x.len()];
         }
-        f
+        let scaled: Vec<f64> = x.iter().map(|x| self.rayleigh[0] * x).collect();
+        self.inertia.damping_times(&self.elements.blocks, &scaled, self.rayleigh[1], x)
     }
 }
 
+/// M·x and C·x of a motion's displacements, velocities and accelerations, carried from step to
+/// step with the motion: each is the image of the motion's own recurrence (a₁ = c0·u₁ + p gives
+/// C·a₁ = c0·C·u₁ + C·p), so that a step makes C·u₁ and M·u₁ alone, and not the products of its
+/// start's and its end's damping forces, each a pass over the elements.
+#[derive(Debug, Clone)]
+pub struct Products {
+    mu: Vec<f64>,
+    mv: Vec<f64>,
+    ma: Vec<f64>,
+    cu: Vec<f64>,
+    cv: Vec<f64>,
+    ca: Vec<f64>,
+}
+
+impl Products {
+    /// Of a motion at rest at displacements `u`.
+    pub fn at_rest(soil: &Soil<'_>, u: &[f64]) -> Products {
+        let zero = vec![0.0; u.len()];
+        Products {
+            mu: soil.mass_times(u),
+            mv: zero.clone(),
+            ma: zero.clone(),
+            cu: soil.damping_times(u),
+            cv: zero.clone(),
+            ca: zero,
+        }
+    }
+}
+
+/// c_u·u + c_v·v + c_a·a, term by term.
+fn combine(c: [f64; 3], u: &[f64], v: &[f64], a: &[f64]) -> Vec<f64> {
+    u.iter().zip(v).zip(a).map(|((u, v), a)| c[0] * u + c[1] * v + c[2] * a).collect()
+}
+
 impl StepStart {
-    /// The step from `motion` at displacements `u0`.
-    pub fn new(soil: &Soil<'_>, u0: &[f64], motion: &Motion, k: &StepCoefficients) -> StepStart {
+    /// The step from `motion` at displacements `u0`, whose products are `at`.
+    pub fn new(u0: &[f64], motion: &Motion, at: &Products, k: &StepCoefficients) -> StepStart {
         let (v0, a0) = (&motion.velocity, &motion.acceleration);
-        let p: Vec<f64> = (0..u0.len()).map(|i| -k.c0 * u0[i] - k.c2 * v0[i] - k.c3 * a0[i]).collect();
-        let q: Vec<f64> = (0..u0.len()).map(|i| -k.c1 * u0[i] + k.c4 * v0[i] + k.c5 * a0[i]).collect();
-        // h = M·p/(1 + α) + C·(q − α'·v₀) − α'·R(u₀), C = a0·M + a1·K + B
-        let w: Vec<f64> = q.iter().zip(v0).map(|(q, v)| q - k.carried * v).collect();
-        let constant = soil.damped(&p, k.inertia_weight, &w, k.carried, &motion.residual);
-        StepStart { p, q, constant }
+        let (to_p, to_q) = ([-k.c0, -k.c2, -k.c3], [-k.c1, k.c4, k.c5]);
+        let (p, q) = (combine(to_p, u0, v0, a0), combine(to_q, u0, v0, a0));
+        let (mp, mq) = (combine(to_p, &at.mu, &at.mv, &at.ma), combine(to_q, &at.mu, &at.mv, &at.ma));
+        let (cp, cq) = (combine(to_p, &at.cu, &at.cv, &at.ca), combine(to_q, &at.cu, &at.cv, &at.ca));
+        // h = M·p/(1 + α) + C·(q − α'·v₀) − α'·R(u₀)
+        let constant = (0..u0.len())
+            .map(|i| k.inertia_weight * mp[i] + cq[i] - k.carried * at.cv[i] - k.carried * motion.residual[i])
+            .collect();
+        StepStart { p, q, mp, mq, cp, cq, constant }
     }
 
-    /// The motion at the step's end, time `time` and ground acceleration `ground`, from its
-    /// displacements `u1` and the motion at its start.
+    /// The motion at the step's end, time `time` and ground acceleration `ground`, and its
+    /// products, from its displacements `u1`, the step's D·u₁ where the step's closing check found
+    /// it (`operator`), and the motion at its start and its products `at`.
+    #[allow(clippy::too_many_arguments)]
     pub fn end(
         &self,
         soil: &Soil<'_>,
         u1: &[f64],
+        operator: Option<&[f64]>,
         start: &Motion,
+        at: &Products,
         k: &StepCoefficients,
         time: f64,
         ground: [f64; 2],
-    ) -> Motion {
+    ) -> (Motion, Products) {
         let acceleration: Vec<f64> = u1.iter().zip(&self.p).map(|(u, p)| k.c0 * u + p).collect();
         let velocity: Vec<f64> = u1.iter().zip(&self.q).map(|(u, q)| k.c1 * u + q).collect();
+        let mu = soil.mass_times(u1);
+        // D = c0/(1 + α)·M + c1·C, so C·u₁ = (D·u₁ − c0/(1 + α)·M·u₁)/c1 from the check's D·u₁
+        let cu = match operator {
+            Some(d) if !soil.undamped() => {
+                let m = k.c0 * k.inertia_weight;
+                d.iter().zip(&mu).map(|(d, mu)| (d - m * mu) / k.c1).collect()
+            }
+            _ => soil.damping_times(u1),
+        };
+        let ma: Vec<f64> = mu.iter().zip(&self.mp).map(|(x, p)| k.c0 * x + p).collect();
+        let mv: Vec<f64> = mu.iter().zip(&self.mq).map(|(x, q)| k.c1 * x + q).collect();
+        let ca: Vec<f64> = cu.iter().zip(&self.cp).map(|(x, p)| k.c0 * x + p).collect();
+        let cv: Vec<f64> = cu.iter().zip(&self.cq).map(|(x, q)| k.c1 * x + q).collect();
         // R(u₁) = −(M·a₁/(1 + α) + C·(v₁ − α'·v₀) − α'·R(u₀))
-        let w: Vec<f64> = velocity.iter().zip(&start.velocity).map(|(v, v0)| v - k.carried * v0).collect();
-        let dynamic = soil.damped(&acceleration, k.inertia_weight, &w, k.carried, &start.residual);
-        let residual = dynamic.iter().map(|f| -f).collect();
-        Motion { time, velocity, acceleration, ground, relative: start.relative, residual }
+        let residual = (0..u1.len())
+            .map(|i| -(k.inertia_weight * ma[i] + cv[i] - k.carried * at.cv[i] - k.carried * start.residual[i]))
+            .collect();
+        let motion = Motion { time, velocity, acceleration, ground, relative: start.relative, residual };
+        (motion, Products { mu, mv, ma, cu, cv, ca })
     }
 }

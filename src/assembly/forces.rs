@@ -35,11 +35,20 @@ pub fn add_spring_forces(f: &mut [f64], rows: &InterfaceRows, taus: &[f64]) {
 /// the soil's trial state and the bars' states alone (not on the interface springs).
 pub fn soil_and_bar_force(elements: &ElementMatrices, soil: SoilView<'_>, bars: &BarStates, u: &[f64]) -> Vec<f64> {
     let mut f = forces_and_magnitudes(elements, soil, u, false).0;
-    add_bar_forces(&mut f, elements, bars, u);
+    add_bar_forces(&mut f, elements, bars, u, None);
     f
 }
 
-/// [`soil_and_bar_force`] and the residual's round-off floor, in one pass over the elements.
+/// The soil's and the bars' force with the residual's round-off floor, and in a dynamic stage the
+/// dynamic operator's part of the force, D·u, on its own.
+pub struct ElementForce {
+    pub force: Vec<f64>,
+    pub floor: f64,
+    /// D·u, while a dynamic stage's operator is in place.
+    pub operator: Option<Vec<f64>>,
+}
+
+/// [`soil_and_bar_force`], the residual's round-off floor and D·u, in one pass over the elements.
 ///
 /// The round-off floor of the out-of-balance force: ‖Σ_e |K_e·u_e|‖ (per DOF, the sum of the
 /// magnitudes of the element forces that cancel there) times a few ε. A residual below it cannot be
@@ -49,28 +58,30 @@ pub fn soil_and_bar_force_and_floor(
     soil: SoilView<'_>,
     bars: &BarStates,
     u: &[f64],
-) -> (Vec<f64>, f64) {
-    let (mut f, magnitudes) = forces_and_magnitudes(elements, soil, u, true);
-    add_bar_forces(&mut f, elements, bars, u);
-    (f, floor_of(&magnitudes))
+) -> ElementForce {
+    let (mut force, magnitudes, mut operator) = forces_and_magnitudes(elements, soil, u, true);
+    add_bar_forces(&mut force, elements, bars, u, operator.as_deref_mut());
+    ElementForce { force, floor: floor_of(&magnitudes), operator }
 }
 
 /// The soil elements' part of the internal force, and (with `magnitudes`) per DOF the sum of the
 /// magnitudes of the element forces there (the round-off floor's): in the force the soil's K_e·u_e
 /// or its stress-carried force (the bars' come from their states: `add_bar_forces`), in the
 /// magnitudes every block's |K_e·u_e| terms and the soil's
-/// stress-carried forces (reference, Mohr–Coulomb and pore forces).
+/// stress-carried forces (reference, Mohr–Coulomb and pore forces); with the magnitudes, in a
+/// dynamic stage, the soil's D_e·u_e on their own.
 fn forces_and_magnitudes(
     elements: &ElementMatrices,
     soil: SoilView<'_>,
     u: &[f64],
     magnitudes: bool,
-) -> (Vec<f64>, Vec<f64>) {
+) -> (Vec<f64>, Vec<f64>, Option<Vec<f64>>) {
     let n = u.len();
     let first_bar = elements.bars.first().map(|b| b.block).unwrap_or(elements.blocks.len());
     let blocks = if magnitudes { &elements.blocks[..] } else { &elements.blocks[..first_bar] };
-    // one sum of 2n: the force in the first n entries, the magnitudes in the last n
-    let width = if magnitudes { 2 * n } else { n };
+    // one sum: the force in the first n entries, the magnitudes in the next n, then D·u
+    let operator = magnitudes && elements.inertia.is_some();
+    let width = n * (1 + usize::from(magnitudes) + usize::from(operator));
     // cut where the soil's blocks alone are cut: the force is the same to the last bit with or
     // without the magnitudes (the closing check's force is the one a step's results report)
     let mut both = par_block_sum(blocks, first_bar, width, |s, dl, k, f| {
@@ -88,7 +99,7 @@ fn forces_and_magnitudes(
             return;
         }
         if let Some(inertia) = &elements.inertia {
-            inertia.add_force(s, dl, u, f, magnitudes.then_some(n));
+            inertia.add_force(s, dl, u, f, magnitudes.then_some(n), operator.then_some(2 * n));
         }
         if magnitudes {
             let forces = [
@@ -135,23 +146,34 @@ fn forces_and_magnitudes(
             f[da] += fe[a];
         }
     });
+    let operator = operator.then(|| both.split_off(2 * n));
     let magnitudes = both.split_off(n);
-    (both, magnitudes)
+    (both, magnitudes, operator)
 }
 
 /// The bars' part of the internal force alone.
 pub fn bar_force(elements: &ElementMatrices, bars: &BarStates, u: &[f64]) -> Vec<f64> {
     let mut f = vec![0.0; u.len()];
-    add_bar_forces(&mut f, elements, bars, u);
+    add_bar_forces(&mut f, elements, bars, u, None);
     f
 }
 
-fn add_bar_forces(f: &mut [f64], elements: &ElementMatrices, bars: &BarStates, u: &[f64]) {
+/// The bars' forces added into `f`, and in a dynamic stage their D_e·u_e into `f` and `operator`.
+fn add_bar_forces(
+    f: &mut [f64],
+    elements: &ElementMatrices,
+    bars: &BarStates,
+    u: &[f64],
+    mut operator: Option<&mut [f64]>,
+) {
     for (i, bar) in elements.bars.iter().enumerate() {
         let dl = &elements.blocks[bar.block].0;
         // in a dynamic stage, the bar's inertia (its mass's part of D·u)
         if let Some(inertia) = &elements.inertia {
-            inertia.add_force(bar.block, dl, u, f, None);
+            inertia.add_force(bar.block, dl, u, f, None, None);
+            if let Some(operator) = operator.as_deref_mut() {
+                inertia.add_force(bar.block, dl, u, operator, None, None);
+            }
         }
         let t = bar.force(u, dl, bars, i);
         let e = bar.axis;

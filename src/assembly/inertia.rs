@@ -112,9 +112,17 @@ impl Inertia {
         self.operators.get(e).map_or(0.0, |d| d[(a, c)])
     }
 
-    /// D_e·u_e of block `e` (DOFs `dl`) added into `f`, and, with `magnitudes` (the second half of
-    /// `f`, from `n` on), the magnitudes of its terms.
-    pub fn add_force(&self, e: usize, dl: &[usize], u: &[f64], f: &mut [f64], magnitudes: Option<usize>) {
+    /// D_e·u_e of block `e` (DOFs `dl`) added into `f`; with `magnitudes` (the part of `f` from
+    /// there on) the magnitudes of its terms, and with `operator` D_e·u_e again (from there on).
+    pub fn add_force(
+        &self,
+        e: usize,
+        dl: &[usize],
+        u: &[f64],
+        f: &mut [f64],
+        magnitudes: Option<usize>,
+        operator: Option<usize>,
+    ) {
         let Some(d) = self.operators.get(e) else { return };
         // (by columns, as the matrices are stored; at most 16 DOFs to an element, a quad8's)
         let n = dl.len();
@@ -134,7 +142,15 @@ impl Inertia {
             if let Some(n) = magnitudes {
                 f[n + da] += magnitude[a];
             }
+            if let Some(n) = operator {
+                f[n + da] += sum[a];
+            }
         }
+    }
+
+    /// Whether any soil element has dashpots (B ≠ 0).
+    pub fn has_dashpots(&self) -> bool {
+        self.any_dashpot
     }
 
     /// A hash of what D is made of: the masses' and dashpots' generation and the three

@@ -6,6 +6,8 @@ pub mod forces;
 pub mod inertia;
 pub mod system;
 
-pub use forces::{add_spring_forces, bar_force, internal_force, soil_and_bar_force, soil_and_bar_force_and_floor};
+pub use forces::{
+    add_spring_forces, bar_force, internal_force, soil_and_bar_force, soil_and_bar_force_and_floor, ElementForce,
+};
 pub use inertia::Inertia;
 pub use system::{ElementMatrices, SoilView, SystemInputs};

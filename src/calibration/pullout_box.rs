@@ -91,7 +91,13 @@ struct HeadForces {
 }
 
 impl StepSink for HeadForces {
-    fn step_done(&mut self, step: &StepResults, record: &StepRecord, _: &RunStats) -> Result<(), crate::Error> {
+    fn step_done(
+        &mut self,
+        _: &crate::model::Model,
+        step: &StepResults,
+        record: &StepRecord,
+        _: &RunStats,
+    ) -> Result<(), crate::Error> {
         // stage 0 is the surcharge, stage 1 the pull
         if record.stage_index == 1 {
             let force: f64 = step.reactions.iter().filter(|r| self.head.contains(&r.node)).filter_map(|r| r.rx).sum();

@@ -137,6 +137,7 @@ struct Surface {
 impl StepSink for Surface {
     fn step_done(
         &mut self,
+        _: &crate::model::Model,
         step: &StepResults,
         record: &StepRecord,
         _: &analysis::RunStats,

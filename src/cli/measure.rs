@@ -248,6 +248,7 @@ struct Counter {
 impl analysis::StepSink for Counter {
     fn step_done(
         &mut self,
+        _: &crate::model::Model,
         step: &analysis::results::StepResults,
         record: &analysis::StepRecord,
         _: &crate::analysis::RunStats,

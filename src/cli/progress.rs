@@ -43,6 +43,7 @@ impl Progress {
 impl StepSink for Progress {
     fn step_done(
         &mut self,
+        _: &crate::model::Model,
         _: &crate::analysis::results::StepResults,
         record: &StepRecord,
         _: &crate::analysis::RunStats,

@@ -172,6 +172,7 @@ struct Head {
 impl StepSink for Head {
     fn step_done(
         &mut self,
+        _: &crate::model::Model,
         step: &StepResults,
         record: &StepRecord,
         _: &analysis::RunStats,

@@ -237,23 +237,26 @@ impl GridLayout {
         }
     }
 
-    /// The three grids of step `r`.
-    pub fn step(&self, r: &StepResults) -> StepGrids {
+    /// The three grids of step `r`, whose Gauss-point results are `stresses`.
+    pub fn step(&self, r: &StepResults, stresses: &[ElementStress]) -> StepGrids {
         let mut u = vec![[0.0; 3]; self.node_x.len()];
         for (id, _, d) in &r.displacements {
             if let Some(i) = self.node_index.get(*id) {
                 u[i] = [d[0], d[1], 0.0];
             }
         }
-        StepGrids { soil: self.soil(r, &u), reinforcement: self.reinforcement(r, &u), interface: self.interface(r, &u) }
+        StepGrids {
+            soil: self.soil(stresses, &u),
+            reinforcement: self.reinforcement(r, &u),
+            interface: self.interface(r, &u),
+        }
     }
 
-    fn soil(&self, r: &StepResults, u: &[[f64; 3]]) -> SoilGrid {
+    fn soil(&self, stresses: &[ElementStress], u: &[[f64; 3]]) -> SoilGrid {
         let n = self.soil_ids.len();
         // an element's Gauss points come one after another (`StepResults::stresses` lists them
         // element by element): each run of them summed in parallel, the runs added up by element
-        let runs: Vec<(usize, CellSums)> = r
-            .stresses
+        let runs: Vec<(usize, CellSums)> = stresses
             .par_chunk_by(|a, b| a.element == b.element)
             .filter_map(|points| Some((self.soil_row.get(points[0].element)?, CellSums::of(points))))
             .collect();
@@ -363,17 +366,7 @@ mod tests {
             point(42, 1, 100.0, false),
             point(7, 3, 6.0, false),
         ];
-        let r = StepResults {
-            displacements: vec![],
-            reactions: vec![],
-            bar_forces: vec![],
-            interface_points: vec![],
-            stresses,
-            reaction_vector: vec![],
-            displacement_vector: vec![],
-            motion: None,
-        };
-        let g = layout.soil(&r, &[]);
+        let g = layout.soil(&stresses, &[]);
         assert_eq!(g.present, vec![0, 1]);
         assert_eq!(g.element_id, vec![3, 7]);
         assert_eq!(g.material, vec![0, 1]);

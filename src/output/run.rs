@@ -49,9 +49,15 @@ pub fn write_run(
         observe: &'a mut dyn StepSink,
     }
     impl StepSink for Tee<'_> {
-        fn step_done(&mut self, step: &StepResults, record: &StepRecord, stats: &RunStats) -> Result<(), Error> {
-            self.writer.step_done(step, record, stats)?;
-            self.observe.step_done(step, record, stats)
+        fn step_done(
+            &mut self,
+            model: &crate::model::Model,
+            step: &StepResults,
+            record: &StepRecord,
+            stats: &RunStats,
+        ) -> Result<(), Error> {
+            self.writer.step_done(model, step, record, stats)?;
+            self.observe.step_done(model, step, record, stats)
         }
         fn factor_of_safety(&mut self, fs: &crate::analysis::FactorOfSafety) -> Result<(), Error> {
             self.writer.factor_of_safety(fs)?;

@@ -3,11 +3,11 @@
 
 use super::folder::{csv_bytes, num};
 use super::grids;
-use crate::analysis::results::StepResults;
+use crate::analysis::results::{ElementStress, StepResults};
 use crate::model::UnitLabels;
 
 /// The step's tables, by their file names in the step's folder.
-pub(super) fn step_files(units: &UnitLabels, r: &StepResults) -> Vec<(String, Vec<u8>)> {
+pub(super) fn step_files(units: &UnitLabels, r: &StepResults, stresses: &[ElementStress]) -> Vec<(String, Vec<u8>)> {
     let mut files = Vec::with_capacity(5);
     let u = units;
     let (l, f, s) = (u.length, u.force_per_width.as_str(), u.stress.as_str());
@@ -113,7 +113,7 @@ pub(super) fn step_files(units: &UnitLabels, r: &StepResults) -> Vec<(String, Ve
                 "yield".into(),
                 "plastic_strain".into(),
             ]),
-            r.stresses.iter().map(|e| {
+            stresses.iter().map(|e| {
                 vec![
                     e.element.to_string(),
                     e.point.to_string(),

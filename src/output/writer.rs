@@ -363,7 +363,7 @@ impl ResultWriter {
         let started = std::time::Instant::now();
         // the last step of the run, if it was held back
         if let Some(last) = self.held.latest.take() {
-            self.write_held(&last)?;
+            self.write_held(model, &last)?;
         }
         self.summary.status = if error.is_some() { "failed".into() } else { "completed".into() };
         self.summary.error = error.map(|e| e.to_string());
@@ -413,20 +413,26 @@ impl ResultWriter {
 
     /// Write the fields of step number `time` in every field file asked for, unless they are
     /// written already.
-    fn write_fields(&mut self, time: usize, record: &StepRecord, results: &StepResults) -> Result<(), Error> {
+    fn write_fields(
+        &mut self,
+        model: &Model,
+        time: usize,
+        record: &StepRecord,
+        results: &StepResults,
+    ) -> Result<(), Error> {
         let kept = &mut self.summary.fields.kept_steps;
         let Err(at) = kept.binary_search(&time) else { return Ok(()) };
         kept.insert(at, time);
         if self.options.csv {
             // the step's folder appears whole or not at all: written beside it, then renamed into
             // place (over the same step of an earlier run into this folder)
-            let files = step_tables::step_files(&self.units, results);
+            let files = step_tables::step_files(&self.units, results, results.stresses(model));
             self.write_step_folder(self.step_dir(record), files)?;
         }
         if self.vtk.is_none() && !self.options.writes_hdf5() {
             return Ok(());
         }
-        let grids = self.layout.step(results);
+        let grids = self.layout.step(results, results.stresses(model));
         let vtu = match &mut self.vtk {
             Some(vtk) => vtk.step_files(time, &self.layout, &grids)?,
             None => Vec::new(),
@@ -441,8 +447,8 @@ impl ResultWriter {
         Ok(())
     }
 
-    fn write_held(&mut self, held: &HeldStep) -> Result<(), Error> {
-        self.write_fields(held.time, &held.record, &held.results)
+    fn write_held(&mut self, model: &Model, held: &HeldStep) -> Result<(), Error> {
+        self.write_fields(model, held.time, &held.record, &held.results)
     }
 }
 
@@ -478,7 +484,13 @@ impl StepSink for ResultWriter {
         self.rewrite_growing_files()
     }
 
-    fn step_done(&mut self, results: &StepResults, record: &StepRecord, stats: &RunStats) -> Result<(), Error> {
+    fn step_done(
+        &mut self,
+        model: &crate::model::Model,
+        results: &StepResults,
+        record: &StepRecord,
+        stats: &RunStats,
+    ) -> Result<(), Error> {
         let started = std::time::Instant::now();
         let time = self.summary.steps.len() + 1;
         let when = events::when(record);
@@ -539,7 +551,7 @@ impl StepSink for ResultWriter {
         // from it
         if let Some(before) = self.held.latest.take() {
             if before.record.stage_index != record.stage_index {
-                self.write_held(&before)?;
+                self.write_held(model, &before)?;
             }
         }
         let keep = self.options.keep.keeps(time, event);
@@ -549,14 +561,14 @@ impl StepSink for ResultWriter {
             results: Arc::new(results.clone()),
         });
         if keep {
-            self.write_fields(time, record, results)?;
+            self.write_fields(model, time, record, results)?;
         }
         for ti in peaked {
             self.held.peaks[ti] = held.clone();
         }
         for ti in fell {
             if let Some(peak) = self.held.peaks[ti].take() {
-                self.write_held(&peak)?;
+                self.write_held(model, &peak)?;
             }
         }
         self.held.latest = held;

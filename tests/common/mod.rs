@@ -281,11 +281,12 @@ pub struct Saved {
 impl analysis::StepSink for Saved {
     fn step_done(
         &mut self,
+        model: &geoslip::model::Model,
         step: &analysis::results::StepResults,
         record: &analysis::StepRecord,
         stats: &geoslip::analysis::RunStats,
     ) -> Result<(), geoslip::Error> {
-        self.steps.step_done(step, record, stats)
+        self.steps.step_done(model, step, record, stats)
     }
     fn keeps_checkpoints(&self) -> bool {
         true

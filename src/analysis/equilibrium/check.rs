@@ -10,7 +10,7 @@ use super::super::state::State;
 use super::condensation::{BalancedInterior, Deferred};
 use super::interface_path::finish_interface;
 use super::iterations::{IncrementReport, Iterations};
-use crate::assembly::{soil_and_bar_force_and_floor, SoilView};
+use crate::assembly::{soil_and_bar_force_and_floor, ElementForce, SoilView};
 use crate::dofs::DofMap;
 use crate::element::soil_state::SoilTrial;
 use crate::interface::active_set::{describe, Bands};
@@ -83,7 +83,8 @@ pub(super) fn check(
     let soil_trial = soil::evaluate(&cx.setup, &state.soil, &state.u, &state.u_committed, it.fallbacks.soil_tangent);
     // the elements' force and the residual's round-off floor in one pass
     let view = SoilView { field: &state.soil, trial: &soil_trial };
-    let (element_force, floor) = soil_and_bar_force_and_floor(&cx.elements, view, &state.bars, &state.u);
+    let ElementForce { force: element_force, floor, operator: operator_force } =
+        soil_and_bar_force_and_floor(&cx.elements, view, &state.bars, &state.u);
     let measures = Measures::of(&checked, &element_force, floor, state, dofs);
     let (residual, reference) = (measures.residual, measures.reference);
     cx.stats.residual_seconds += t.elapsed().as_secs_f64();
@@ -109,6 +110,8 @@ pub(super) fn check(
             state_changes: std::mem::take(&mut it.state_changes),
             soil: soil_trial,
             element_force,
+            element_floor: floor,
+            operator_force,
         }));
     }
     if iteration == settings.max_iterations {

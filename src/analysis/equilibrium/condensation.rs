@@ -82,25 +82,37 @@ pub enum Condensed {
     NotHere,
 }
 
-/// Solve an iteration's system condensed, when the run condenses (`condensed` is set) and this
-/// iteration allows it. `system`: the iteration's inputs; `key`: the fingerprint of its whole
-/// matrix. A backend error turns condensation off for the rest of the run, with a warning.
+/// The unknowns an iteration's system (`system`) would be condensed onto, when the run condenses
+/// (`condensed` is set) and this iteration allows it: its soil elastic, and the interface's
+/// unknowns few enough. Soil alone, with no interface or bar, has nothing to condense onto: its
+/// system is the full system's solve.
+pub fn condensable(condensed: &Option<CondensedSystem>, system: &SystemInputs) -> Option<Rc<KeptUnknowns>> {
+    condensed.as_ref()?;
+    if system.interfaces.is_empty() && system.elements.bars.is_empty() {
+        return None;
+    }
+    if system.soil.trial.tangents.iter().any(Option::is_some) {
+        return None;
+    }
+    let kept = Rc::new(kept_equations(system));
+    if kept.is_empty() || kept.len() > MAX_KEPT || kept.len() as f64 > MAX_KEPT_SHARE * system.dofs.size() as f64 {
+        return None;
+    }
+    Some(kept)
+}
+
+/// Solve an iteration's system condensed onto `kept` ([`condensable`]). `system`: the iteration's
+/// inputs; `key`: the fingerprint of its whole matrix. A backend error turns condensation off for
+/// the rest of the run, with a warning.
 pub fn solve(
     condensed: &mut Option<CondensedSystem>,
     stats: &mut RunStats,
     system: SystemInputs,
+    kept: Rc<KeptUnknowns>,
     key: u64,
     rhs: &[f64],
 ) -> Condensed {
     let Some(solver) = condensed.as_mut() else { return Condensed::NotHere };
-    if system.soil.trial.tangents.iter().any(Option::is_some) {
-        return Condensed::NotHere;
-    }
-    let kept = Rc::new(kept_equations(&system));
-    // (nothing to condense onto — soil alone, no interface or bar — is the full system's solve)
-    if kept.is_empty() || kept.len() > MAX_KEPT || kept.len() as f64 > MAX_KEPT_SHARE * system.dofs.size() as f64 {
-        return Condensed::NotHere;
-    }
     let t = std::time::Instant::now();
     let change: Triplets = system.assemble_reinforcement_and_interface();
     let soil_key = system.soil_fingerprint();

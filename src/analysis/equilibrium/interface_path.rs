@@ -28,11 +28,19 @@ pub(super) fn start_on_interface(
     it: &mut Iterations,
     linear: &Linearisation,
 ) {
-    let Some(condensed) = cx.condensed.as_ref() else { return };
+    // (only where a condensed soil is in place to start on)
+    let Some(condensed) = cx.condensed.as_ref().filter(|c| c.condensed_on().is_some()) else { return };
     let t = Instant::now();
     let system = linear.inputs(&cx.elements, dofs, state);
     // (the residual's round-off floor with the force, in the same pass over the elements)
-    let (element, floor) = soil_and_bar_force_and_floor(&cx.elements, system.soil, &state.bars, &state.u);
+    // (carried from the time step before, where it still holds)
+    let (element, floor) = match (it.carried_element_force.take(), it.start_floor.take()) {
+        (Some(element), Some(floor)) => (element, floor),
+        _ => {
+            let found = soil_and_bar_force_and_floor(&cx.elements, system.soil, &state.bars, &state.u);
+            (found.force, found.floor)
+        }
+    };
     let rhs = iteration_system(system, &linear.springs, state, false, Some(element.clone())).rhs;
     if rhs.iter().all(|v| v.is_finite()) {
         let balanced = BalancedInterior { element_force: &element, floor };
@@ -70,13 +78,17 @@ pub(super) fn solve_condensed(
 ) -> Result<Option<Solution>, IncrementError> {
     let model = cx.model;
     let Context { condensed, stats, elements, .. } = &mut *cx;
+    let Some(kept) = condensation::condensable(condensed, &linear.inputs(elements, dofs, state)) else {
+        return Ok(None);
+    };
     let element = it.carried_element_force.clone();
     let (system, rhs, scale) = right_hand_side(elements, &mut stats.solver, linear, dofs, state, element);
     if rhs.iter().any(|v| !v.is_finite()) {
         // the full path names the first place
         return Ok(None);
     }
-    let Condensed::Solved(x, linear_residual) = condensation::solve(condensed, stats, system, linear.key, &rhs) else {
+    let Condensed::Solved(x, linear_residual) = condensation::solve(condensed, stats, system, kept, linear.key, &rhs)
+    else {
         return Ok(None);
     };
     let iterate =

@@ -32,6 +32,10 @@ pub struct IncrementReport {
     /// The soil's and the bars' part of the internal force at equilibrium (the closing check's,
     /// `assembly::soil_and_bar_force_and_floor`), which the step's reactions are taken from.
     pub element_force: Vec<f64>,
+    /// Its round-off floor (the same pass's).
+    pub element_floor: f64,
+    /// In a dynamic stage, the dynamic operator's part of it, D·u (the same pass's).
+    pub operator_force: Option<Vec<f64>>,
 }
 
 /// What one increment's iterations carry from one to the next.
@@ -48,6 +52,9 @@ pub(super) struct Iterations {
     pub carried_soil: Option<SoilTrial>,
     /// The elements' part of the internal force at the current iterate, from the same check.
     pub carried_element_force: Option<Vec<f64>>,
+    /// The round-off floor of the carried elements' force, where it was carried from the time
+    /// step before (`Context::take_carried_force`), for an increment's first iteration.
+    pub start_floor: Option<f64>,
     /// The iteration under way.
     pub iteration: usize,
     /// The last out-of-balance force and its reference.
@@ -69,8 +76,13 @@ pub(super) struct Solution {
 }
 
 impl Iterations {
-    /// Nothing carried yet: the start of an increment.
-    pub fn new(cx: &Context, state: &State) -> Iterations {
+    /// The start of an increment: nothing carried, but the elements' force at the end of the time
+    /// step before, where it still holds (`Context::take_carried_force`).
+    pub fn new(cx: &mut Context, state: &State) -> Iterations {
+        let (carried_element_force, start_floor) = match cx.take_carried_force(&state.u) {
+            Some((force, floor)) => (Some(force), Some(floor)),
+            None => (None, None),
+        };
         Iterations {
             u_increment_start: state.u.clone(),
             linear_residuals: Vec::new(),
@@ -87,7 +99,8 @@ impl Iterations {
                 dependent_retries: 0,
             },
             carried_soil: None,
-            carried_element_force: None,
+            carried_element_force,
+            start_floor,
             iteration: 0,
             last_residual: None,
             condensed_solve: false,

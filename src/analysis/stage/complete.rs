@@ -177,7 +177,7 @@ fn hand_over(
     record: &StepRecord,
 ) -> Result<(), Error> {
     let written = Instant::now();
-    sink.step_done(results, record, &cx.stats)?;
+    sink.step_done(cx.model, results, record, &cx.stats)?;
     cx.stats.output_seconds += written.elapsed().as_secs_f64();
     Ok(())
 }

@@ -8,11 +8,11 @@
 //! continues from the last one before it.
 
 use super::super::absorbing::Dashpots;
-use super::super::context::Context;
+use super::super::context::{CarriedForce, Context};
 use super::super::sink::StepSink;
 use super::super::soil;
 use super::super::state::State;
-use super::super::time_scheme::{Hht, Motion, Soil, StepStart};
+use super::super::time_scheme::{Hht, Motion, Products, Soil, StepStart};
 use super::complete::complete_increment;
 use super::cutback::solved_or_cut_back;
 use super::placement::reactions;
@@ -94,6 +94,8 @@ fn steps(
     sink: &mut dyn StepSink,
 ) -> Result<(), Error> {
     let scheme = Hht::new(plan.alpha);
+    // M·x and C·x of the motion at the step's start (at rest in the stage's first)
+    let mut products = Products::at_rest(&soil_of(cx, plan), &state.u);
     while let Some(&target) = stage.progress.targets.first() {
         let started = Instant::now();
         let snapshot = state.clone();
@@ -102,8 +104,7 @@ fn steps(
         let k = scheme.step(nominal_step(time - start.time, plan.time_step));
         let inertia = cx.elements.inertia.as_mut().expect("the stage's masses are in place");
         inertia.set_coefficients(k.operator(plan.rayleigh), &cx.elements.blocks);
-        let soil = soil_of(cx, plan);
-        let step_start = StepStart::new(&soil, &state.u, &start, &k);
+        let step_start = StepStart::new(&state.u, &start, &products, &k);
         let (mut ground, mut velocity) = ([0.0; 2], [0.0; 2]);
         for (d, motion) in &plan.base_motion {
             ground[index(*d)] = motion.at(time);
@@ -124,11 +125,21 @@ fn steps(
             }
         }
         let Some(report) = solved_or_cut_back(cx, stage, state, &snapshot, target)? else { continue };
+        // the elements' force at the step's end: the next step's first right-hand side, if it
+        // has the same length
+        let carried = CarriedForce {
+            u: state.u.clone(),
+            operator: cx.elements.inertia.as_ref().expect("the stage's masses are in place").key(),
+            force: report.element_force.clone(),
+            floor: report.element_floor,
+        };
         // (before the step commits: the soil's states are no longer shared with the copy)
         drop(snapshot);
         let soil = soil_of(cx, plan);
-        let end = step_start.end(&soil, &state.u, &start, &k, time, ground);
+        let operator = report.operator_force.as_deref();
+        let (end, end_products) = step_start.end(&soil, &state.u, operator, &start, &products, &k, time, ground);
         state.motion = Some(end);
+        products = end_products;
         stage.step += 1;
         let progress = &mut stage.progress;
         let planned_step = progress.count_planned(&stage.plan.load_factors, target);
@@ -141,8 +152,10 @@ fn steps(
             reversal: false,
         };
         complete_increment(cx, stage, state, report, &at, sink)?;
+        cx.carried_force = Some(carried);
         stage.progress.reach(target, planned_step);
     }
+    cx.carried_force = None;
     Ok(())
 }
 
