@@ -1,5 +1,6 @@
 //! The histories of the dynamic stages: at every time step the base's acceleration, each recorded
-//! node set's mean displacement and velocity relative to the base and its absolute acceleration,
+//! node set's mean displacement and velocity (relative to a rigid base, absolute over a compliant
+//! one, as the headers say) and its absolute acceleration,
 //! each interface's mean slip and each reinforcement's largest tension; written as `motion.csv`,
 //! drawn as `motion.png`/`.svg`, and summed up per stage in the report (the permanent slip, the
 //! peak and end-of-shaking loads).
@@ -20,7 +21,7 @@ struct Row {
     step: usize,
     time: f64,
     ground: [f64; 2],
-    /// Per recorded set: ux, uy, vx, vy (relative), ax, ay (absolute).
+    /// Per recorded set: ux, uy, vx, vy (in the history's `Frame`), ax, ay (absolute).
     sets: Vec<[f64; 6]>,
     /// Per interface: its mean slip.
     slips: Vec<f64>,
@@ -49,6 +50,29 @@ pub(super) struct MotionHistory {
     /// The last step's interface slips and reinforcement tensions (a dynamic stage starts from
     /// them).
     last: (Vec<f64>, Vec<f64>),
+    /// What the displacements and velocities are measured from (`Frame`).
+    frame: Frame,
+}
+
+/// What the recorded displacements and velocities are measured from: the base where it is rigid
+/// (the stage shakes the model in the base's frame), a fixed point over a compliant base.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Frame {
+    Relative,
+    Absolute,
+    /// Some dynamic stages on a rigid base, some on a compliant one.
+    Mixed,
+}
+
+impl Frame {
+    /// The word the headers and captions use.
+    fn word(self) -> &'static str {
+        match self {
+            Frame::Relative => "relative",
+            Frame::Absolute => "absolute",
+            Frame::Mixed => "relative-or-absolute",
+        }
+    }
 }
 
 impl MotionHistory {
@@ -67,7 +91,12 @@ impl MotionHistory {
         }
         let interfaces: Vec<String> = model.interfaces.iter().map(|i| i.name.clone()).collect();
         let last = (vec![0.0; interfaces.len()], vec![0.0; reinforcements.len()]);
-        Some(MotionHistory { sets, interfaces, reinforcements, rows: Vec::new(), starts: Vec::new(), last })
+        let frame = match (dynamic.iter().all(|d| !d.compliant_base), dynamic.iter().all(|d| d.compliant_base)) {
+            (true, _) => Frame::Relative,
+            (_, true) => Frame::Absolute,
+            _ => Frame::Mixed,
+        };
+        Some(MotionHistory { sets, interfaces, reinforcements, rows: Vec::new(), starts: Vec::new(), last, frame })
     }
 
     /// Take a converged step (`tensions`: each reinforcement's largest tension in it).
@@ -119,14 +148,15 @@ impl MotionHistory {
             format!("ground ax [{l}/s2]"),
             format!("ground ay [{l}/s2]"),
         ];
+        let frame = self.frame.word();
         for (name, _) in &self.sets {
             for (what, unit) in [
-                ("ux relative", l.to_string()),
-                ("uy relative", l.to_string()),
-                ("vx relative", format!("{l}/s")),
-                ("vy relative", format!("{l}/s")),
-                ("ax absolute", format!("{l}/s2")),
-                ("ay absolute", format!("{l}/s2")),
+                (format!("ux {frame}"), l.to_string()),
+                (format!("uy {frame}"), l.to_string()),
+                (format!("vx {frame}"), format!("{l}/s")),
+                (format!("vy {frame}"), format!("{l}/s")),
+                ("ax absolute".to_string(), format!("{l}/s2")),
+                ("ay absolute".to_string(), format!("{l}/s2")),
             ] {
                 header.push(format!("{name} {what} [{unit}]"));
             }
@@ -194,7 +224,12 @@ impl MotionHistory {
         }
         if !self.sets.is_empty() {
             panels.push(Panel {
-                title: "Displacement relative to the base".into(),
+                title: match self.frame {
+                    Frame::Relative => "Displacement relative to the base",
+                    Frame::Absolute => "Displacement (absolute: a compliant base)",
+                    Frame::Mixed => "Displacement (relative to a rigid base, absolute over a compliant one)",
+                }
+                .into(),
                 x_label: "time [s]".into(),
                 y_label: format!("ux [{l}]"),
                 series: (0..self.sets.len()).map(|k| series(self.sets[k].0.clone(), &|r| r.sets[k][0])).collect(),
@@ -291,9 +326,17 @@ impl MotionHistory {
         }
         let _ = writeln!(
             r,
-            "Slip and displacements are relative to the base and count from the model's first stage; an \
-             interface's slip is positive towards the first node of its slave line, and its permanent slip is \
-             the change of its mean slip over the stage. Every time step is in `motion.csv`."
+            "{} and count from the model's first stage; an interface's slip is positive towards the first \
+             node of its slave line, and its permanent slip is the change of its mean slip over the stage. Every \
+             time step is in `motion.csv`.",
+            match self.frame {
+                Frame::Relative => "Slip and displacements are relative to the base",
+                Frame::Absolute =>
+                    "Slip is relative, displacements absolute (the base is compliant: it moves with them)",
+                Frame::Mixed =>
+                    "Slip is relative; displacements are relative to the base in a stage on a rigid base \
+                                 and absolute in a stage on a compliant one",
+            }
         );
     }
 }
