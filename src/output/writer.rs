@@ -486,7 +486,7 @@ impl StepSink for ResultWriter {
 
     fn step_done(
         &mut self,
-        model: &crate::model::Model,
+        model: &Model,
         results: &StepResults,
         record: &StepRecord,
         stats: &RunStats,
