@@ -183,6 +183,11 @@ impl Products {
     }
 }
 
+/// c·x + y, term by term.
+fn axpy(c: f64, x: &[f64], y: &[f64]) -> Vec<f64> {
+    x.iter().zip(y).map(|(x, y)| c * x + y).collect()
+}
+
 /// c_u·u + c_v·v + c_a·a, term by term.
 fn combine(c: [f64; 3], u: &[f64], v: &[f64], a: &[f64]) -> Vec<f64> {
     u.iter().zip(v).zip(a).map(|((u, v), a)| c[0] * u + c[1] * v + c[2] * a).collect()
@@ -218,8 +223,8 @@ impl StepStart {
         time: f64,
         ground: [f64; 2],
     ) -> (Motion, Products) {
-        let acceleration: Vec<f64> = u1.iter().zip(&self.p).map(|(u, p)| k.c0 * u + p).collect();
-        let velocity: Vec<f64> = u1.iter().zip(&self.q).map(|(u, q)| k.c1 * u + q).collect();
+        // a₁ = c0·u₁ + p, v₁ = c1·u₁ + q, and their images under M and C alike
+        let (acceleration, velocity) = (axpy(k.c0, u1, &self.p), axpy(k.c1, u1, &self.q));
         let mu = soil.mass_times(u1);
         // D = c0/(1 + α)·M + c1·C, so C·u₁ = (D·u₁ − c0/(1 + α)·M·u₁)/c1 from the check's D·u₁
         let cu = match operator {
@@ -229,10 +234,8 @@ impl StepStart {
             }
             _ => soil.damping_times(u1),
         };
-        let ma: Vec<f64> = mu.iter().zip(&self.mp).map(|(x, p)| k.c0 * x + p).collect();
-        let mv: Vec<f64> = mu.iter().zip(&self.mq).map(|(x, q)| k.c1 * x + q).collect();
-        let ca: Vec<f64> = cu.iter().zip(&self.cp).map(|(x, p)| k.c0 * x + p).collect();
-        let cv: Vec<f64> = cu.iter().zip(&self.cq).map(|(x, q)| k.c1 * x + q).collect();
+        let (ma, mv) = (axpy(k.c0, &mu, &self.mp), axpy(k.c1, &mu, &self.mq));
+        let (ca, cv) = (axpy(k.c0, &cu, &self.cp), axpy(k.c1, &cu, &self.cq));
         // R(u₁) = −(M·a₁/(1 + α) + C·(v₁ − α'·v₀) − α'·R(u₀))
         let residual = (0..u1.len())
             .map(|i| -(k.inertia_weight * ma[i] + cv[i] - k.carried * at.cv[i] - k.carried * start.residual[i]))
