@@ -69,14 +69,7 @@ fn triaxial(kind: SolidKind) -> ModelFile {
         loads: vec![pressure("side"), pressure("top")],
         ..Default::default()
     }];
-    for (k, (strain, steps)) in STAGES.into_iter().enumerate() {
-        stages.push(Stage {
-            name: format!("shear {}", k + 1),
-            load_factors: (1..=steps).map(|i| i as f64 / steps as f64).collect(),
-            prescribed: vec![common::prescribed("top", None, Some(-strain * HEIGHT))],
-            ..Default::default()
-        });
-    }
+    stages.extend(common::shearing_stages(&STAGES, HEIGHT));
     common::triaxial_sample(kind, (RADIUS, HEIGHT), sand, stages, 1e-9)
 }
 

@@ -132,6 +132,24 @@ def test_a_duncan_chang_soil_from_a_dict_runs_as_the_cli(tmp_path):
     assert run.completed
 
 
+def test_a_hardening_soil_from_a_dict_runs_as_the_cli(tmp_path):
+    # tests/fuzz-seeds/hardening-soil-lifts.toml: hardening soil placed in a lift, compacted, loaded
+    # and unloaded (docs/model-format.md, Materials), from a dict and by the CLI
+    seed = ROOT / "tests" / "fuzz-seeds" / "hardening-soil-lifts.toml"
+    data = tomllib.loads(seed.read_text())
+    assert data["materials"]["soil"]["fill"]["model"] == "hardening-soil"
+    out = tmp_path / "cli"
+    subprocess.run([cli(), "run", "-q", "--csv", "--solver", "faer", "--out", str(out), str(seed)], check=True)
+    run = geoslip.Model.from_dict(data, name="hardening.json").run(solver="faer")
+    folder = geoslip.Results.open(out)
+    assert len(run.steps) == len(folder.steps) and run.completed
+    assert_same(folder.steps[-1]["bars"]["T"], run.steps[-1]["bars"]["T"], "T")
+    assert run.steps[-1]["soil"]["stress"].shape[1] == 4
+    with pytest.raises(geoslip.ModelError, match=r"materials\.soil\.fill\.hardening\.m"):
+        data["materials"]["soil"]["fill"]["hardening"]["m"] = 1.5
+        geoslip.Model.from_dict(data, name="hardening.json").run()
+
+
 def test_a_wall_s_design_checks_come_back_as_arrays(tmp_path):
     # the wall of tests/fuzz-seeds/design-wall.toml from a dict, against the CLI's folder
     # (docs/design-checks.md)

@@ -439,15 +439,17 @@ fn vertical_chord(poly: &[[f64; 2]], x: f64) -> Option<(f64, f64)> {
 }
 
 /// Update every present element with a law for the displacements since the last converged
-/// increment. A Duncan–Chang element always gives its tangent (its stiffness follows its
-/// stresses); with [`Tangent::Elastic`], its moduli at the updated stresses without the plastic
-/// part.
+/// increment. A Duncan–Chang or hardening-soil element always gives its tangent (its stiffness
+/// follows its stresses); with [`Tangent::Elastic`], its moduli at the updated stresses without the
+/// plastic part; with [`Tangent::Committed`], the law's predictor elasticity
+/// ([`SoilLaw::predictor_elasticity`]).
 pub fn evaluate(setup: &SoilSetup, field: &SoilField, u: &[f64], u_committed: &[f64], tangent: Tangent) -> SoilTrial {
     let n = setup.laws.len();
     if !setup.any_plastic() {
         return SoilTrial { forces: vec![None; n], tangents: vec![None; n], points: vec![None; n], yielding: 0 };
     }
     type ElementTrial = (Option<Vec<f64>>, Option<DMatrix<f64>>, Option<Vec<PointState>>, usize);
+    let consistent = matches!(tangent, Tangent::Consistent | Tangent::Symmetric);
     let results: Vec<ElementTrial> = (0..n)
         .into_par_iter()
         .map(|s| {
@@ -463,7 +465,7 @@ pub fn evaluate(setup: &SoilSetup, field: &SoilField, u: &[f64], u_committed: &[
             let mut yielding = 0;
             for (g, p) in points.iter().enumerate() {
                 let old = committed.get(g).copied().unwrap_or_default();
-                let (update, state, elasticity) = law.update(&setup.elastic[s], &old, strain(p, &du));
+                let (update, state, elasticity) = law.update(&setup.elastic[s], &old, strain(p, &du), consistent);
                 add_bt_sigma(p, update.stress, &mut force);
                 if update.state.is_plastic() {
                     yielding += 1;
@@ -471,19 +473,20 @@ pub fn evaluate(setup: &SoilSetup, field: &SoilField, u: &[f64], u_committed: &[
                 // At the apex the stress cannot change at all (its tangent is zero); a patch of
                 // such points, as at a cohesionless surface, would be a mechanism of the iteration
                 // matrix alone, so they keep the elastic matrix there.
-                let c = if update.state.is_plastic() && update.state != YieldState::Apex && tangent != Tangent::Elastic
-                {
-                    match tangent {
-                        Tangent::Symmetric => 0.5 * (update.tangent + update.tangent.transpose()),
-                        _ => update.tangent,
+                let plastic = update.state.is_plastic() && update.state != YieldState::Apex;
+                let c = match tangent {
+                    Tangent::Committed => {
+                        law.predictor_elasticity(&setup.elastic[s], &old).unwrap_or(elasticity).d_matrix_with_hoop()
                     }
-                } else {
-                    elasticity.d_matrix_with_hoop()
+                    Tangent::Consistent if plastic => update.tangent,
+                    Tangent::Symmetric if plastic => 0.5 * (update.tangent + update.tangent.transpose()),
+                    _ => elasticity.d_matrix_with_hoop(),
                 };
                 k += solid::point_stiffness(p, &c);
                 states.push(state);
             }
-            let tangent = ((yielding > 0 && tangent != Tangent::Elastic) || law.is_nonlinear_elastic()).then_some(k);
+            let elastic = matches!(tangent, Tangent::Elastic | Tangent::Committed);
+            let tangent = ((yielding > 0 && !elastic) || law.is_nonlinear_elastic()).then_some(k);
             (Some(force), tangent, Some(states), yielding)
         })
         .collect();

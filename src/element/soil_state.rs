@@ -131,6 +131,9 @@ pub enum Tangent {
     Symmetric,
     /// The elastic matrix (constant stiffness).
     Elastic,
+    /// The first iteration's predictor: the elastic matrix at the last converged stresses, where
+    /// the law predicts with it (`SoilLaw::predictor_elasticity`).
+    Committed,
 }
 
 /// The Mohr–Coulomb elements at the current iterate.

@@ -254,12 +254,12 @@ pub struct Materials {
 }
 
 /// Plane-strain soil: linear elastic, elastic–perfectly plastic Mohr–Coulomb with a tension
-/// cut-off, or Duncan–Chang hyperbolic with the Mohr–Coulomb strength as its limit. Stresses are
-/// effective stresses; pore pressures come from a stage's `water`.
+/// cut-off, Duncan–Chang hyperbolic or hardening soil, these two with the Mohr–Coulomb strength as
+/// their limit. Stresses are effective stresses; pore pressures come from a stage's `water`.
 #[derive(Debug, Clone, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct SoilMaterial {
-    /// `linear-elastic` (default), `mohr-coulomb` or `duncan-chang`.
+    /// `linear-elastic` (default), `mohr-coulomb`, `duncan-chang` or `hardening-soil`.
     #[serde(default)]
     pub model: SoilModel,
     /// Young's modulus E [stress]: linear-elastic and Mohr–Coulomb soil.
@@ -271,22 +271,25 @@ pub struct SoilMaterial {
     /// Duncan–Chang soil: the hyperbolic stiffness parameters (E–B form).
     #[serde(default)]
     pub hyperbolic: Option<HyperbolicParameters>,
+    /// Hardening soil: its stiffness parameters (Schanz, Vermeer & Bonnier 1999).
+    #[serde(default)]
+    pub hardening: Option<HardeningSoilParameters>,
     /// Unit weight γ [force/length³] above the water table, used by `gravity` loads.
     #[serde(default)]
     pub unit_weight: f64,
     /// Unit weight below the water table [force/length³]; default `unit_weight`.
     #[serde(default)]
     pub saturated_unit_weight: Option<f64>,
-    /// Mohr–Coulomb and Duncan–Chang: effective cohesion c′ [stress] (the undrained strength c_u
-    /// with φ = 0).
+    /// Mohr–Coulomb, Duncan–Chang and hardening soil: effective cohesion c′ [stress] (the undrained
+    /// strength c_u with φ = 0).
     #[serde(default)]
     pub cohesion: f64,
-    /// Mohr–Coulomb and Duncan–Chang: effective friction angle φ′ [degrees] (Duncan–Chang: φ0, at
-    /// σ3 = pa).
+    /// Mohr–Coulomb, Duncan–Chang and hardening soil: effective friction angle φ′ [degrees]
+    /// (Duncan–Chang: φ0, at σ3 = pa; hardening soil: above zero).
     #[serde(default)]
     pub friction_angle: f64,
-    /// Mohr–Coulomb and Duncan–Chang: dilatancy angle ψ [degrees], 0 ≤ ψ ≤ φ (ψ < φ:
-    /// non-associated flow).
+    /// Mohr–Coulomb, Duncan–Chang and hardening soil: dilatancy angle ψ [degrees], 0 ≤ ψ ≤ φ (ψ <
+    /// φ: non-associated flow; hardening soil: the dilatancy at failure).
     #[serde(default)]
     pub dilatancy_angle: f64,
     /// Mohr–Coulomb: tension cut-off σt [stress], the largest principal stress allowed. Default and
@@ -294,7 +297,8 @@ pub struct SoilMaterial {
     #[serde(default)]
     pub tensile_strength: Option<f64>,
     /// Earth pressure coefficient at rest for the `k0` initial stresses: σ′h = K0·σ′v. Default
-    /// 1 − sin φ (Jáky) for Mohr–Coulomb and Duncan–Chang soil, ν/(1 − ν) for linear-elastic soil.
+    /// 1 − sin φ (Jáky) for Mohr–Coulomb and Duncan–Chang soil, the hardening soil's K0nc, ν/(1 − ν)
+    /// for linear-elastic soil.
     #[serde(default)]
     pub k0: Option<f64>,
 }
@@ -329,6 +333,39 @@ pub struct HyperbolicParameters {
     pub pa: Option<f64>,
 }
 
+/// The stiffness of a hardening soil by the names PLAXIS users know (Schanz, Vermeer & Bonnier
+/// 1999): E50 = E50ref·r^m, Eur = Eurref·r^m and Eoed = Eoedref·r^m, r = (c·cos φ + σ3·sin φ)/(c·cos
+/// φ + pref·sin φ) (σ1 for Eoed). docs/soil.md has the whole law.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct HardeningSoilParameters {
+    /// E50ref [stress]: the secant modulus at half the strength in drained triaxial compression at
+    /// σ3 = pref.
+    #[serde(rename = "E50_ref")]
+    pub secant_modulus: f64,
+    /// Eoedref [stress]: the tangent modulus of one-dimensional compression at σ1 = pref; default
+    /// E50ref.
+    #[serde(rename = "Eoed_ref", default)]
+    pub oedometer_modulus: Option<f64>,
+    /// Eurref [stress]: the unloading–reloading modulus at σ3 = pref; default 3·E50ref.
+    #[serde(rename = "Eur_ref", default)]
+    pub unloading_modulus: Option<f64>,
+    /// m: the power of the stress dependency, in (0, 1].
+    pub m: f64,
+    /// pref [stress]; default 100 kPa in the file's units.
+    #[serde(default)]
+    pub p_ref: Option<f64>,
+    /// νur: Poisson's ratio of unloading and reloading; default 0.2.
+    #[serde(default)]
+    pub nu_ur: Option<f64>,
+    /// Rf = qf/qa, in (0, 1); default 0.9.
+    #[serde(rename = "Rf", default)]
+    pub failure_ratio: Option<f64>,
+    /// K0nc: σ′h/σ′v in normally consolidated one-dimensional compression; default 1 − sin φ.
+    #[serde(rename = "K0nc", default)]
+    pub k0_nc: Option<f64>,
+}
+
 impl SoilMaterial {
     /// A linear-elastic soil with E, ν and γ.
     pub fn linear_elastic(youngs_modulus: f64, poissons_ratio: f64, unit_weight: f64) -> SoilMaterial {
@@ -337,6 +374,7 @@ impl SoilMaterial {
             youngs_modulus: Some(youngs_modulus),
             poissons_ratio: Some(poissons_ratio),
             hyperbolic: None,
+            hardening: None,
             unit_weight,
             saturated_unit_weight: None,
             cohesion: 0.0,
@@ -351,6 +389,11 @@ impl SoilMaterial {
     pub fn k0(&self) -> f64 {
         self.k0.unwrap_or(match self.model {
             SoilModel::MohrCoulomb | SoilModel::DuncanChang => 1.0 - self.friction_angle.to_radians().sin(),
+            SoilModel::HardeningSoil => self
+                .hardening
+                .as_ref()
+                .and_then(|h| h.k0_nc)
+                .unwrap_or_else(|| 1.0 - self.friction_angle.to_radians().sin()),
             SoilModel::LinearElastic => {
                 let nu = self.poissons_ratio.unwrap_or(0.0);
                 nu / (1.0 - nu)
@@ -371,6 +414,7 @@ pub enum SoilModel {
     LinearElastic,
     MohrCoulomb,
     DuncanChang,
+    HardeningSoil,
 }
 
 /// A reinforcement, per metre width out of plane.

@@ -366,8 +366,8 @@ impl Model {
         self.law_of(self.soil(solid))
     }
 
-    /// The soil of this element keeps its stresses (Mohr–Coulomb or Duncan–Chang): its stress is
-    /// read as committed, not from its strain.
+    /// The soil of this element keeps its stresses (Mohr–Coulomb, Duncan–Chang or hardening soil):
+    /// its stress is read as committed, not from its strain.
     pub fn keeps_stresses(&self, solid: usize) -> bool {
         self.soil(solid).model != file::SoilModel::LinearElastic
     }
@@ -403,7 +403,40 @@ impl Model {
                     atmospheric_pressure: h.pa.unwrap_or_else(|| Model::atmospheric_pressure(&self.units)),
                 }))
             }
+            file::SoilModel::HardeningSoil => Some(SoilLaw::HardeningSoil(
+                Model::hardening_soil(m, &self.units)
+                    .and_then(Result::ok)
+                    .expect("a hardening soil's parameters were checked"),
+            )),
         }
+    }
+
+    /// A hardening soil's law from its material, with the defaults of the parameters not given;
+    /// `None` without its `hardening` table.
+    ///
+    /// # Errors
+    /// [`CapMisfit`](crate::element::hardening_soil::CapMisfit) when no cap gives its Eoedref and
+    /// K0nc.
+    pub fn hardening_soil(
+        m: &SoilMaterial,
+        units: &file::Units,
+    ) -> Option<Result<crate::element::hardening_soil::HardeningSoil, crate::element::hardening_soil::CapMisfit>> {
+        use crate::element::hardening_soil::{HardeningParameters, HardeningSoil};
+        let h = m.hardening.as_ref()?;
+        let phi = m.friction_angle.to_radians();
+        Some(HardeningSoil::new(HardeningParameters {
+            secant_modulus: h.secant_modulus,
+            oedometer_modulus: h.oedometer_modulus.unwrap_or(h.secant_modulus),
+            unloading_modulus: h.unloading_modulus.unwrap_or(3.0 * h.secant_modulus),
+            unloading_poissons_ratio: h.nu_ur.unwrap_or(0.2),
+            power: h.m,
+            reference_pressure: h.p_ref.unwrap_or_else(|| Model::atmospheric_pressure(units) * 100.0 / 101.325),
+            failure_ratio: h.failure_ratio.unwrap_or(0.9),
+            k0_nc: m.k0(),
+            cohesion: m.cohesion,
+            friction_angle: phi,
+            dilatancy_angle: m.dilatancy_angle.to_radians(),
+        }))
     }
 
     /// The elasticity of a soil element's matrices: E and ν as given, or a Duncan–Chang soil's
@@ -411,6 +444,7 @@ impl Model {
     pub fn elasticity(&self, solid: usize) -> crate::element::solid::PlaneStrain {
         match self.soil_law(solid) {
             Some(crate::element::soil_law::SoilLaw::DuncanChang(law)) => law.reference_elasticity(),
+            Some(crate::element::soil_law::SoilLaw::HardeningSoil(law)) => law.reference_elasticity(),
             _ => {
                 let m = self.soil(solid);
                 crate::element::solid::PlaneStrain {

@@ -136,6 +136,21 @@ pub fn prescribed(set: &str, ux: Option<f64>, uy: Option<f64>) -> geoslip::model
     geoslip::model::file::PrescribedDisplacement { node: None, nodes: None, set: Some(set.into()), ux, uy }
 }
 
+/// A triaxial sample's shearing stages "shear 1", "shear 2", …: each moves the `top` set down by
+/// its axial strain times `height` in its number of equal steps.
+pub fn shearing_stages(stages: &[(f64, usize)], height: f64) -> Vec<geoslip::model::file::Stage> {
+    stages
+        .iter()
+        .enumerate()
+        .map(|(k, &(strain, steps))| geoslip::model::file::Stage {
+            name: format!("shear {}", k + 1),
+            load_factors: (1..=steps).map(|i| i as f64 / steps as f64).collect(),
+            prescribed: vec![prescribed("top", None, Some(-strain * height))],
+            ..Default::default()
+        })
+        .collect()
+}
+
 /// A triaxial sample, axisymmetric: a `radius` × `height` block of 2 × 2 `kind` elements of the
 /// soil `sand`, its base held vertically, node sets `base` and `top`, edge sets `side` and `top`
 /// (for the cell pressure), run by Newton's method to `tolerance` through `stages`.

@@ -24,7 +24,8 @@ pub(super) fn iterate(cx: &mut Context, dofs: &DofMap, state: &mut State) -> Res
         // the springs' stiffness goes on to the next iteration (constant stiffness keeps it)
         it.spring_stiffness = Some(std::mem::take(&mut linear.stiffness));
         let Some(Solution { x, scale, rhs }) = solution else { continue };
-        let step = if linear.soil_trial.yielding > 0 && linear.tangent != Tangent::Elastic {
+        let step = if linear.soil_trial.yielding > 0 && !matches!(linear.tangent, Tangent::Elastic | Tangent::Committed)
+        {
             line_search(cx, dofs, state, &linear.rows, &x, scale, &rhs[..dofs.free_count])
         } else {
             1.0

@@ -65,10 +65,11 @@ pub(super) fn linearise(
     it.state_changes.extend(held);
     let rule = cx.options.analysis.reassociation;
     let InterfaceIterate { rows, springs } = InterfaceIterate::clipped(cx.model, rule, state, &dofs.multipliers);
-    // The first iteration of an increment predicts with the elastic soil stiffness: prescribed
-    // displacements strain only the elements next to them at first, and their tangent would say
-    // nothing about the rest.
-    let tangent = if iteration == 1 { Tangent::Elastic } else { it.fallbacks.soil_tangent };
+    // The first iteration of an increment predicts with the elastic soil stiffness at the last
+    // converged stresses: prescribed displacements strain only the elements next to them at
+    // first, and their tangent, or a stress-dependent elasticity at their strained state, would
+    // say nothing about the rest (and would make the prediction of a uniform test non-uniform).
+    let tangent = if iteration == 1 { Tangent::Committed } else { it.fallbacks.soil_tangent };
     // The soil at this iterate was evaluated (with this tangent) to check the last iteration's
     // residual: nothing since has moved the displacements.
     let soil_trial = match it.carried_soil.take() {

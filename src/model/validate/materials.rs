@@ -10,11 +10,19 @@ pub const MAX_POISSONS_RATIO: f64 = 0.499;
 
 /// The soil and reinforcement materials.
 pub(super) fn materials(d: &mut Draft, file: &ModelFile, p: &mut Problems) {
+    let units = &file.units;
     d.soils = file.materials.soil.iter().map(|(k, v)| (k.clone(), v.clone())).collect();
     for (name, m) in &d.soils {
         let entity = format!("soil material \"{name}\"");
         let f = |field: &str| format!("materials.soil.{name}.{field}");
-        if m.model == SoilModel::DuncanChang {
+        let stiffness_table = match m.model {
+            SoilModel::DuncanChang => Some(("hyperbolic", "a Duncan–Chang", "K, n, Kb, m and Kur in `hyperbolic`")),
+            SoilModel::HardeningSoil => {
+                Some(("hardening", "a hardening", "E50_ref, Eoed_ref, Eur_ref and m in `hardening`"))
+            }
+            _ => None,
+        };
+        if let Some((_, soil, what)) = stiffness_table {
             for (field, given) in
                 [("youngs_modulus", m.youngs_modulus.is_some()), ("poissons_ratio", m.poissons_ratio.is_some())]
             {
@@ -22,11 +30,30 @@ pub(super) fn materials(d: &mut Draft, file: &ModelFile, p: &mut Problems) {
                     p.push(
                         f(field),
                         &entity,
-                        "a Duncan–Chang soil's stiffness follows its stresses: give K, n, Kb, m and Kur in `hyperbolic`, \
-                         not E and ν",
+                        format!("{soil} soil's stiffness follows its stresses: give {what}, not E and ν"),
                     );
                 }
             }
+        }
+        for (table, soil, model, given) in [
+            (
+                "hyperbolic",
+                "a Duncan–Chang",
+                "duncan-chang",
+                m.hyperbolic.is_some() && m.model != SoilModel::DuncanChang,
+            ),
+            (
+                "hardening",
+                "a hardening",
+                "hardening-soil",
+                m.hardening.is_some() && m.model != SoilModel::HardeningSoil,
+            ),
+        ] {
+            if given {
+                p.push(f(table), &entity, format!("applies to {soil} soil: set model = \"{model}\" to use it"));
+            }
+        }
+        if m.model == SoilModel::DuncanChang {
             match &m.hyperbolic {
                 Some(h) => hyperbolic(h, &f("hyperbolic"), &entity, p),
                 None => p.push(
@@ -35,14 +62,17 @@ pub(super) fn materials(d: &mut Draft, file: &ModelFile, p: &mut Problems) {
                     "a Duncan–Chang soil needs its stiffness parameters: hyperbolic = { K, n, Rf, Kb, m, Kur }",
                 ),
             }
-        } else {
-            if m.hyperbolic.is_some() {
-                p.push(
-                    f("hyperbolic"),
+        } else if m.model == SoilModel::HardeningSoil {
+            match &m.hardening {
+                Some(h) => hardening(m, h, &f("hardening"), &entity, units, p),
+                None => p.push(
+                    f("hardening"),
                     &entity,
-                    "applies to a Duncan–Chang soil: set model = \"duncan-chang\" to use it",
-                );
+                    "a hardening soil needs its stiffness parameters: hardening = { E50_ref, m } at least \
+                     (Eoed_ref, Eur_ref, p_ref, nu_ur, Rf and K0nc have defaults)",
+                ),
             }
+        } else {
             match m.youngs_modulus {
                 Some(e) if !(e.is_finite() && e > 0.0) => {
                     p.push(f("youngs_modulus"), &entity, format!("must be a positive number, found {e}"))
@@ -102,8 +132,15 @@ pub(super) fn materials(d: &mut Draft, file: &ModelFile, p: &mut Problems) {
                     ),
                 );
             }
-            if m.model == SoilModel::DuncanChang && m.tensile_strength.is_some() {
-                p.push(f("tensile_strength"), &entity, "a Duncan–Chang soil's tension limit is the apex c·cot φ");
+            if let (Some((_, soil, _)), Some(_)) = (stiffness_table, m.tensile_strength) {
+                p.push(f("tensile_strength"), &entity, format!("{soil} soil's tension limit is the apex c·cot φ"));
+            }
+            if m.model == SoilModel::HardeningSoil && m.friction_angle == 0.0 {
+                p.push(
+                    f("friction_angle"),
+                    &entity,
+                    "a hardening soil's stiffness and strength grow with c·cos φ + σ3·sin φ: φ must be above zero",
+                );
             }
             if let Some(t) = m.tensile_strength {
                 if !(t.is_finite() && t >= 0.0) {
@@ -121,7 +158,8 @@ pub(super) fn materials(d: &mut Draft, file: &ModelFile, p: &mut Problems) {
                     p.push(
                         f(field),
                         &entity,
-                        "is a strength parameter: set model = \"mohr-coulomb\" or \"duncan-chang\" to use it",
+                        "is a strength parameter: set model = \"mohr-coulomb\", \"duncan-chang\" or \"hardening-soil\" \
+                         to use it",
                     );
                 }
             }
@@ -171,6 +209,65 @@ fn hyperbolic(h: &HyperbolicParameters, field: &str, entity: &str, p: &mut Probl
     check("delta_phi", h.delta_phi, (0.0..30.0).contains(&h.delta_phi), "in [0, 30) degrees");
     if let Some(pa) = h.pa {
         check("pa", pa, pa > 0.0, "a positive number");
+    }
+}
+
+/// A hardening soil's stiffness parameters, each within its physical range, and the cap that
+/// they and K0nc imply.
+fn hardening(
+    m: &SoilMaterial,
+    h: &HardeningSoilParameters,
+    field: &str,
+    entity: &str,
+    units: &Units,
+    p: &mut Problems,
+) {
+    let before = p.len();
+    let mut check = |name: &str, v: f64, ok: bool, range: &str| {
+        if !(v.is_finite() && ok) {
+            p.push(format!("{field}.{name}"), entity, format!("must be {range}, found {v}"));
+        }
+    };
+    check("E50_ref", h.secant_modulus, h.secant_modulus > 0.0, "a positive number");
+    if let Some(e) = h.oedometer_modulus {
+        check("Eoed_ref", e, e > 0.0, "a positive number");
+    }
+    let rf = h.failure_ratio.unwrap_or(0.9);
+    check("Rf", rf, rf > 0.0 && rf < 1.0, "in (0, 1)");
+    // Eur at least Ei: the shear hardening surface then grows with q from the isotropic state
+    let initial = 2.0 * h.secant_modulus / (2.0 - rf);
+    let eur = h.unloading_modulus.unwrap_or(3.0 * h.secant_modulus);
+    check(
+        "Eur_ref",
+        eur,
+        eur >= initial,
+        &format!(
+            "at least the initial modulus Ei = 2·E50_ref/(2 − Rf) = {initial} (unloading is stiffer than loading)"
+        ),
+    );
+    check("m", h.m, h.m > 0.0 && h.m <= 1.0, "in (0, 1]");
+    if let Some(pref) = h.p_ref {
+        check("p_ref", pref, pref > 0.0, "a positive number");
+    }
+    if let Some(nu) = h.nu_ur {
+        check("nu_ur", nu, (0.0..0.5).contains(&nu), "in [0, 0.5)");
+    }
+    if let Some(k) = h.k0_nc {
+        check("K0nc", k, k > 0.0 && k < 1.0, "in (0, 1)");
+    }
+    if m.k0.is_some() && h.k0_nc.is_some() && m.k0 != h.k0_nc {
+        p.push(
+            format!("{field}.K0nc"),
+            entity,
+            "differs from the material's k0: a hardening soil starts normally consolidated, so its initial K0 is K0nc \
+             (give one of them)",
+        );
+    }
+    let strength_ok = m.friction_angle.is_finite() && m.friction_angle > 0.0 && m.friction_angle < 90.0;
+    if p.len() == before && strength_ok {
+        if let Some(Err(misfit)) = crate::model::Model::hardening_soil(m, units) {
+            p.push(field.to_string(), entity, misfit.to_string());
+        }
     }
 }
 
