@@ -132,7 +132,9 @@ fn follows_the_hyperbola(kind: SolidKind) {
             assert!((slope - eur).abs() < 1e-5 * eur, "{kind:?}/{backend:?}: unloading slope {slope}, Eur {eur}");
         }
         // reloading: at Eur up to the band below where unloading began; past it, the hyperbola
-        // shifted in strain; then failure
+        // again where unloading left it (the path is reversible: along the same stress path the
+        // moduli, the band's included, are the same both ways), so with no offset in strain to the
+        // integration's error; then failure
         let end = *unloading.last().unwrap();
         let mut offsets = Vec::new();
         for (e, q) in stage(3) {
@@ -146,7 +148,7 @@ fn follows_the_hyperbola(kind: SolidKind) {
             }
         }
         let (lo, hi) = offsets.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &o| (a.min(o), b.max(o)));
-        assert!(offsets.len() > 50 && lo > 0.0 && hi < 1e-3, "{kind:?}/{backend:?}: offsets {lo}..{hi}");
+        assert!(offsets.len() > 50 && lo > -2e-6 && hi < 2e-6, "{kind:?}/{backend:?}: offsets {lo}..{hi}");
         eprintln!("{kind:?}/{backend:?}: reloaded curve's offset from the hyperbola {lo:.6e}..{hi:.6e}");
         assert!(hi - lo < 6e-7, "{kind:?}/{backend:?}: not the hyperbola: offsets {lo}..{hi}");
         assert!(curve.last().unwrap().2 > qf * (1.0 - 1e-9), "{kind:?}/{backend:?}: no failure");

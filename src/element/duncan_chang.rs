@@ -434,8 +434,12 @@ mod tests {
             let slope = (w[0] - w[1]) / 1e-4;
             assert!((slope - eur).abs() < 1e-6 * eur, "unloading slope {slope} against Eur {eur}");
         }
-        // reloading, past where unloading began: the hyperbola again, shifted in strain by the
-        // band's softer reloading (the same offset at every point: dq/dε depends on q alone)
+        // reloading, past where unloading began: the hyperbola again. Along the same stress path
+        // the moduli are the same both ways (the band's too: a function of the stress and of the
+        // largest stress state, which does not change below it), so the path is reversible and
+        // the reloaded curve rejoins the hyperbola where unloading left it: no offset in strain,
+        // and the same at every point (dq/dε depends on q alone), to the integration's error
+        // (measured 1.8·10⁻⁸ to 2.8·10⁻⁸)
         for _ in 0..12 {
             sample.compress(&law, 1e-4);
         }
@@ -445,7 +449,9 @@ mod tests {
             offsets.push(sample.axial - strain_at(sample.deviator()));
         }
         let (lo, hi) = offsets.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &o| (a.min(o), b.max(o)));
-        assert!(lo > 0.0 && hi < 1e-4, "offsets {offsets:?}");
+        eprintln!("reloaded curve's offset from the hyperbola: {lo:.3e} to {hi:.3e}");
+        const OFFSET: f64 = 1e-7;
+        assert!(lo > -OFFSET && hi < OFFSET, "offsets {offsets:?}");
         assert!(hi - lo < 1e-8, "the reloaded curve is not the hyperbola shifted: offsets {offsets:?}");
     }
 }
