@@ -7,8 +7,7 @@ use super::Model;
 
 impl Model {
     /// The law of a soil element that keeps its stresses (Mohr–Coulomb, Duncan–Chang or hardening
-    /// soil), or `None`
-    /// when its soil is linear elastic.
+    /// soil), or `None` when its soil is linear elastic.
     pub fn soil_law(&self, solid: usize) -> Option<crate::element::soil_law::SoilLaw> {
         self.law_of(self.soil(solid))
     }
