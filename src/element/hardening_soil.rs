@@ -402,12 +402,16 @@ impl HardeningSoil {
     /// consolidated).
     fn through(&self, stress: &[f64; 4], shear_hardening: f64, preconsolidation: f64) -> Point {
         let v = Principal::of(stress).values;
-        let floor = CONFINEMENT_FLOOR * self.parameters.reference_pressure;
         Point {
             stress: *stress,
             shear_hardening: shear_hardening.max(self.shear_function(&v)),
-            preconsolidation: preconsolidation.max(self.equivalent_pressure(&v)).max(floor),
+            preconsolidation: preconsolidation.max(self.equivalent_pressure(&v)).max(self.smallest_preconsolidation()),
         }
+    }
+
+    /// The smallest pp a point has: [`CONFINEMENT_FLOOR`]·pref.
+    fn smallest_preconsolidation(&self) -> f64 {
+        CONFINEMENT_FLOOR * self.parameters.reference_pressure
     }
 
     /// The mechanisms at `point`, for a strain in the direction `d_strain`. At an isotropic stress,
@@ -629,19 +633,13 @@ impl HardeningSoil {
                 let allowed = if last { Surfaces { shear: true, cap: true } } else { self.on(&point) };
                 let (mut next, mut averaged, predicted) = self.heun(&point, &de, allowed);
                 let plastic = allowed.shear || allowed.cap;
-                let (gaps_before, scale_before) = out_of_plane_gaps(&point.stress);
-                let meets_corner = |p: &Point| {
-                    let (gaps, scale) = out_of_plane_gaps(&p.stress);
-                    (0..2).any(|k| {
-                        gaps_before[k].abs() > CORNER * scale_before
-                            && gaps[k] * gaps_before[k].signum() <= CORNER * scale
-                    })
+                let before = out_of_plane_gaps(&point.stress);
+                let meets_surface = |end: &Point| {
+                    let on = self.on(end);
+                    (on.shear && !allowed.shear) || (on.cap && !allowed.cap)
                 };
                 let reaches = |(end, _, predicted): &(Point, Rate, Point)| {
-                    let on = self.on(end);
-                    (on.shear && !allowed.shear)
-                        || (on.cap && !allowed.cap)
-                        || (plastic && (meets_corner(end) || meets_corner(predicted)))
+                    meets_surface(end) || (plastic && met_corner(before, &end.stress, &predicted.stress).is_some())
                 };
                 let whole = last || located == LOCATED_EVENTS || at_strength || !reaches(&(next, averaged, predicted));
                 if !whole {
@@ -661,21 +659,22 @@ impl HardeningSoil {
                     // a corner met: the stress goes onto it. Heun's average of a rate on each
                     // side of the corner ends short of it, and the next located part would again
                     // end short, approaching it without reaching it
-                    if plastic && !(self.on(&next).shear && !allowed.shear || self.on(&next).cap && !allowed.cap) {
-                        if let Some(k) = met_corner(gaps_before, scale_before, &next.stress, &predicted.stress) {
-                            // (the surfaces it is on pass through it there, as they do after
-                            // every substep; the move is within the corner's width)
-                            let on = self.on(&next);
-                            next.stress = onto_corner(&next.stress, k);
-                            let v = Principal::of(&next.stress).values;
-                            if on.shear {
-                                next.shear_hardening = self.shear_function(&v);
-                            }
-                            if on.cap {
-                                next.preconsolidation = self
-                                    .equivalent_pressure(&v)
-                                    .max(CONFINEMENT_FLOOR * self.parameters.reference_pressure);
-                            }
+                    let corner = if plastic && !meets_surface(&next) {
+                        met_corner(before, &next.stress, &predicted.stress)
+                    } else {
+                        None
+                    };
+                    if let Some(k) = corner {
+                        // (the surfaces it is on pass through it there, as they do after every
+                        // substep; the move is within the corner's width)
+                        let on = self.on(&next);
+                        next.stress = onto_corner(&next.stress, k);
+                        let v = Principal::of(&next.stress).values;
+                        if on.shear {
+                            next.shear_hardening = self.shear_function(&v);
+                        }
+                        if on.cap {
+                            next.preconsolidation = self.equivalent_pressure(&v).max(self.smallest_preconsolidation());
                         }
                     }
                 }
@@ -763,9 +762,11 @@ fn out_of_plane_gaps(s: &[f64; 4]) -> ([f64; 2], f64) {
     ([centre + radius - s[3], centre - radius - s[3]], scale)
 }
 
-/// Which out-of-plane gap (0: σ+ − σzz, 1: σ− − σzz) of `before` the stress `end`, or its
-/// predictor `predicted`, has closed to within [`CORNER`]: the one nearest zero at the end.
-fn met_corner(before: [f64; 2], scale_before: f64, end: &[f64; 4], predicted: &[f64; 4]) -> Option<usize> {
+/// Which out-of-plane gap (0: σ+ − σzz, 1: σ− − σzz) of `before` (the gaps and the stress's size,
+/// [`out_of_plane_gaps`]) the stress `end`, or its predictor `predicted`, has closed to within
+/// [`CORNER`]: the one nearest zero at the end.
+fn met_corner(before: ([f64; 2], f64), end: &[f64; 4], predicted: &[f64; 4]) -> Option<usize> {
+    let (before, scale_before) = before;
     let (gaps, scale) = out_of_plane_gaps(end);
     let (predicted_gaps, predicted_scale) = out_of_plane_gaps(predicted);
     (0..2)
