@@ -24,10 +24,10 @@
 //! the in-plane stresses, overshot the corner in one substep and bounced back in the next, and its
 //! update jumped by 10⁻³ of the stress as the strain changed by 10⁻⁵ of itself. Where it meets the
 //! corner the stress is put onto it (the two principal stresses set to their mean, within the
-//! corner's width of where they were, the surfaces it is on through it): Heun's step to there
-//! averages a rate on each side of the corner and ends short of it, so that each further located
-//! part halved the gap without closing it, and the point then left the surfaces and met them
-//! again substep after substep; a point of a placed lift so jumped by a third of its stress as the
+//! corner's width of where they were; γp and pp as they were, unless the move passed a surface):
+//! Heun's step to there averages a rate on each side of the corner and ends short of it, so that
+//! each further located part halved the gap without closing it, and the point then left the
+//! surfaces and met them again substep after substep; a point of a placed lift so jumped by a third of its stress as the
 //! strain changed by 10⁻⁶ of itself, and Newton's iteration on the wall stalled.
 
 use super::{HardeningSoil, Integrated, Point, Rate, CONFINEMENT_FLOOR, ON_SURFACE, SUBSTEP};
@@ -36,8 +36,9 @@ use crate::element::yield_mechanisms::{Principal, Surfaces, CORNER};
 use nalgebra::Vector4;
 
 /// The events a substep is split at, at most: reaching the shear surface, the cap, and the two
-/// corners of the out-of-plane stress with the in-plane ones.
-const EVENTS: usize = 4;
+/// corners of the out-of-plane stress with the in-plane ones, and meeting a surface again after
+/// the move onto a corner left the point inside it.
+const EVENTS: usize = 8;
 /// Halvings of the bisection that finds an event: to 2⁻³⁶ of a substep.
 const BISECTIONS: usize = 36;
 /// The events an integration locates, at most; past them its substeps are taken whole. A point
@@ -137,17 +138,13 @@ impl HardeningSoil {
                         None
                     };
                     if let Some(k) = corner {
-                        // (the surfaces it is on pass through it there, as they do after every
-                        // substep; the move is within the corner's width)
-                        let on = self.on(&next);
+                        // (a move within the corner's width; γp and pp stay, and a surface the
+                        // move passes goes through the stress below. A surface the move leaves
+                        // the point inside is met again as a located event, as it is where the
+                        // substep meets the corner first: setting the surfaces the point was on
+                        // through the moved stress lowered γp, and the update then depended on
+                        // which of the two events came first)
                         next.stress = onto_corner(&next.stress, k);
-                        let v = Principal::of(&next.stress).values;
-                        if on.shear {
-                            next.shear_hardening = self.shear_function(&v);
-                        }
-                        if on.cap {
-                            next.preconsolidation = self.equivalent_pressure(&v).max(self.smallest_preconsolidation());
-                        }
                     }
                 }
                 plastic_strain += equivalent(&averaged.plastic_strain);
