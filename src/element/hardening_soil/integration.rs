@@ -30,7 +30,7 @@
 //! surfaces and met them again substep after substep; a point of a placed lift so jumped by a third of its stress as the
 //! strain changed by 10⁻⁶ of itself, and Newton's iteration on the wall stalled.
 
-use super::{HardeningSoil, Integrated, Point, Rate, CONFINEMENT_FLOOR, ON_SURFACE, SUBSTEP};
+use super::{HardeningSoil, Integrated, Point, Rate, CONFINEMENT_FLOOR, SUBSTEP};
 use crate::element::mohr_coulomb::{self, YieldState};
 use crate::element::yield_mechanisms::{Principal, Surfaces, CORNER};
 use nalgebra::Vector4;
@@ -174,13 +174,9 @@ impl HardeningSoil {
         Integrated { point, plastic_strain, state }
     }
 
-    /// The surfaces the stress of `point` is on (within [`ON_SURFACE`]).
+    /// The surfaces the stress of `point` is on ([`HardeningSoil::surfaces_at`]).
     fn on(&self, point: &Point) -> Surfaces {
-        let v = Principal::of(&point.stress).values;
-        Surfaces {
-            shear: self.shear_function(&v) >= point.shear_hardening * (1.0 - ON_SURFACE),
-            cap: self.equivalent_pressure(&v) >= point.preconsolidation * (1.0 - ON_SURFACE),
-        }
+        self.surfaces_at(&Principal::of(&point.stress).values, point)
     }
 
     /// One step of Heun's method from `point` for the strain `de`, the `allowed` mechanisms

@@ -384,6 +384,14 @@ impl HardeningSoil {
         }
     }
 
+    /// The surfaces `point` is on (within [`ON_SURFACE`]), `v` its principal stresses.
+    fn surfaces_at(&self, v: &[f64; 3], point: &Point) -> Surfaces {
+        Surfaces {
+            shear: self.shear_function(v) >= point.shear_hardening * (1.0 - ON_SURFACE),
+            cap: self.equivalent_pressure(v) >= point.preconsolidation * (1.0 - ON_SURFACE),
+        }
+    }
+
     /// The smallest pp a point has: [`CONFINEMENT_FLOOR`]·pref.
     fn smallest_preconsolidation(&self) -> f64 {
         CONFINEMENT_FLOOR * self.parameters.reference_pressure
@@ -446,10 +454,7 @@ impl HardeningSoil {
             d,
             list,
             h_cap: (pref / self.cap_hardening) * (pp / pref).powf(self.parameters.power) * (p / size).max(0.0),
-            on: Surfaces {
-                shear: self.shear_function(&v) >= point.shear_hardening * (1.0 - ON_SURFACE),
-                cap: size >= pp * (1.0 - ON_SURFACE),
-            },
+            on: self.surfaces_at(&v, point),
         }
     }
 
