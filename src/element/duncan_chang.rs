@@ -28,27 +28,42 @@
 //! reloading, softer than Eur.)
 //!
 //! **Stress update.** The moduli change along the increment, so the strain increment is integrated
-//! in substeps by the Bogacki–Shampine 3(2) pair with local error control (after Sloan 1987, Int.
-//! J. Numer. Meth. Eng. 24, 893–911): a substep whose third- and second-order estimates differ by
-//! more than [`TOLERANCE`] of the stress (or of pa, if larger) is cut. A substep that leaves the
-//! Mohr–Coulomb surface of its σ3 is returned to it by the return map of [`super::mohr_coulomb`]
-//! with that substep's mean elasticity, and its error is then measured between the two returned
-//! estimates, to [`TOLERANCE_ON_STRENGTH`]: beyond the strength the soil is perfectly plastic,
-//! flowing with the dilatancy angle ψ.
+//! in equal substeps by the third-order Runge–Kutta method of Ralston, each changing the stress
+//! elastically by about [`SUBSTEP`] of itself; a crossing of the loading criterion's band gets
+//! [`BAND_SUBSTEPS`] over the whole band. The number of substeps x is not rounded: the update
+//! blends ⌊x⌋ and ⌊x⌋ + 1 substeps, so that it is a continuous function of the strain (an
+//! error-controlled partition, as in Sloan 1987, jumps as the strain changes, and Newton's
+//! iteration then stalls at the size of the jumps). A substep that leaves the Mohr–Coulomb
+//! surface of its σ3 is returned to it by the return map of [`super::mohr_coulomb`] with that
+//! substep's mean elasticity: beyond the strength the soil is perfectly plastic, flowing with the
+//! dilatancy angle ψ.
 //!
-//! **The floor of σ3.** σ3 enters the moduli, φ and the strength in the stress level no smaller
-//! than [`CONFINEMENT_FLOOR`]·pa, so that a point at the ground surface or in tension keeps a
-//! stiffness. The Mohr–Coulomb limit itself uses the point's true stresses.
+//! **Tangent.** A point that ends an update on the strength gives the update's own derivative, by
+//! forward differences. Below the strength the tangent is the moduli at the updated stress. The
+//! update's derivative there made Newton's iteration of the triaxial test of
+//! docs/verification.md §11 (tri6) converge to another equilibrium as the stress state crossed the
+//! band: the modulus changes sixteenfold over 1 % of the stress state, the update is not monotone
+//! in the strain there, and the reloaded curve came out 4·10⁻⁵ of strain off the hyperbola.
+//!
+//! **The floor of σ3.** σ3 enters the moduli and φ no smaller than [`CONFINEMENT_FLOOR`]·pa, so
+//! that a point at the ground surface or in tension keeps a stiffness. The stress level is
+//! measured against the Mohr–Coulomb limit at the point's true σ3, the limit the return map holds
+//! the stress to, so that SL = 1 on the strength below the floor too (with the floored σ3 in it, a
+//! point held on the strength near the surface had SL ≈ 0.7, its loading criterion was neutral
+//! there, and two neighbouring strains could follow Et and Eur respectively).
 
 use super::mohr_coulomb::{self, MohrCoulomb, StressUpdate, YieldState};
 use super::solid::PlaneStrain;
+use super::substeps;
 
-/// The largest difference between a substep's two stress estimates, relative to the stress (or
-/// to pa, if larger).
-pub const TOLERANCE: f64 = 1e-6;
-/// The same on the strength, where both estimates are returned to the surface and the substeps
-/// follow the stress along it.
-pub const TOLERANCE_ON_STRENGTH: f64 = 1e-5;
+/// A substep's elastic change of the stress, as a fraction of the stress (or of the whole change,
+/// if larger).
+pub const SUBSTEP: f64 = 0.01;
+/// The substeps an update takes across the whole band of the loading criterion.
+pub const BAND_SUBSTEPS: f64 = 64.0;
+/// The largest stress ratio (σ1 − σ3)/(σ1 − σ3)f the loading criterion counts, for a trial stress
+/// far beyond the strength (near the apex, where the strength vanishes).
+const RATIO_CAP: f64 = 10.0;
 /// The smallest σ3, as a fraction of pa, that the moduli see.
 pub const CONFINEMENT_FLOOR: f64 = 0.01;
 /// The drop of the stress state, as a fraction of its largest value, over which the modulus
@@ -56,9 +71,6 @@ pub const CONFINEMENT_FLOOR: f64 = 0.01;
 pub const RELOAD_BAND: f64 = 0.01;
 /// The band is taken of a largest stress state no smaller than this (near an isotropic state).
 pub const RELOAD_BAND_FLOOR: f64 = 0.1;
-/// Substeps one update may take; past it the update takes the remainder in one substep (the
-/// error control bounds the work, never the answer's existence).
-pub const MAX_SUBSTEPS: usize = 500;
 /// The bulk modulus's bounds in units of E: ν from 0 (B = E/3) to 0.49 (B = E/(3·(1 − 0.98))).
 const BULK_MIN: f64 = 1.0 / 3.0;
 const BULK_MAX: f64 = 1.0 / (3.0 * (1.0 - 2.0 * 0.49));
@@ -134,15 +146,14 @@ impl DuncanChang {
         self.stress_ratio(stress).min(1.0)
     }
 
-    /// (σ1 − σ3)/(σ1 − σ3)f, above 1 for a stress beyond the strength.
+    /// (σ1 − σ3)/(σ1 − σ3)f, above 1 for a stress beyond the strength (at most [`RATIO_CAP`]).
+    /// The strength is the Mohr–Coulomb limit's at the point's own σ3, with φ at the floored one:
+    /// the ratio is 1 exactly where the return map holds the stress, below the floor of σ3 too.
     fn stress_ratio(&self, stress: &[f64; 4]) -> f64 {
         let (largest, smallest) = extreme_principal(stress);
-        let strength = self.strength(self.confinement(stress));
-        if strength > 0.0 {
-            (largest - smallest) / strength
-        } else {
-            f64::INFINITY
-        }
+        let (s, c) = self.friction_angle_at(self.confinement(stress)).sin_cos();
+        let strength = ((2.0 * self.cohesion * c - 2.0 * largest * s) / (1.0 - s)).max(0.0);
+        ((largest - smallest) / strength.max(f64::MIN_POSITIVE)).min(RATIO_CAP)
     }
 
     /// The stress state SS = SL·(σ3/pa)^¼ of the loading criterion. A trial stress beyond the
@@ -218,49 +229,84 @@ impl DuncanChang {
     /// Update the stress of one point for the strain increment `d_strain` (εxx, εyy, γxy, εzz; εzz
     /// zero in plane strain, the hoop strain in axisymmetry) from its committed `stress`, with the
     /// largest stress state it has had (`stress_state_max`). See the module's notes for the method.
-    pub fn update(&self, stress: [f64; 4], stress_state_max: f64, d_strain: [f64; 4]) -> HyperbolicUpdate {
-        let mut path = Path {
+    /// With `differentiate`, the tangent is the update's own derivative by the strain (four more
+    /// integrations, [`substeps::difference_tangent`]); without, it is the moduli at the new stress,
+    /// or on the strength the Mohr–Coulomb return's tangent of the last substep.
+    pub fn update(
+        &self,
+        stress: [f64; 4],
+        stress_state_max: f64,
+        d_strain: [f64; 4],
+        differentiate: bool,
+    ) -> HyperbolicUpdate {
+        let start = Path {
             sigma: stress,
             largest: stress_state_max.max(self.stress_state(&stress)),
             plastic_strain: 0.0,
             last: None,
-            substeps: 0,
         };
-        self.integrate(&mut path, d_strain);
+        let path = self.integrate(&start, d_strain);
         let elasticity = self.moduli(&path.sigma, path.largest);
-        let update = match path.last {
-            Some(returned) if returned.state.is_plastic() => {
-                StressUpdate { plastic_strain: path.plastic_strain, ..returned }
+        let plastic = path.last.filter(|r| r.state.is_plastic());
+        let tangent = match plastic {
+            Some(_) if differentiate => {
+                substeps::difference_tangent(d_strain, &path.sigma, |e| self.integrate(&start, e).sigma)
             }
-            _ => StressUpdate {
-                stress: path.sigma,
-                tangent: elasticity.d_matrix_with_hoop(),
-                state: YieldState::Elastic,
-                plastic_strain: path.plastic_strain,
-            },
+            Some(returned) => returned.tangent,
+            None => elasticity.d_matrix_with_hoop(),
+        };
+        let update = StressUpdate {
+            stress: path.sigma,
+            tangent,
+            state: plastic.map_or(YieldState::Elastic, |r| r.state),
+            plastic_strain: path.plastic_strain,
         };
         HyperbolicUpdate { update, stress_state_max: path.largest, elasticity }
     }
 
-    /// Integrate the strain `d_strain` along `path` in substeps with error control, each returned
-    /// to the strength if it leaves it, the largest stress state following the stress.
-    fn integrate(&self, path: &mut Path, d_strain: [f64; 4]) {
-        let (mut done, mut size, mut rejected) = (0.0f64, 1.0f64, false);
-        while done < 1.0 {
-            path.substeps += 1;
-            let last_chance = path.substeps >= MAX_SUBSTEPS;
-            if last_chance {
-                size = 1.0 - done;
-            }
-            size = size.min(1.0 - done);
+    /// Integrate the strain `d_strain` from `start` in equal substeps, each changing the stress
+    /// elastically by about [`SUBSTEP`] of itself (or of the whole change, if larger: at most
+    /// 1/[`SUBSTEP`] of them). Their number x is not rounded: the result blends ⌊x⌋ and ⌊x⌋ + 1
+    /// substeps, so that it is a continuous function of the strain.
+    fn integrate(&self, start: &Path, d_strain: [f64; 4]) -> Path {
+        let pa = self.atmospheric_pressure;
+        let elastic = self.moduli(&start.sigma, start.largest);
+        let trial_change = mohr_coulomb::trial_stress(&elastic, [0.0; 4], d_strain);
+        let elastic_change = trial_change.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let scale = start.sigma.iter().fold(CONFINEMENT_FLOOR * pa, |m, v| m.max(v.abs())).max(elastic_change);
+        // the band of the loading criterion, where the modulus passes from Et to Eur over a small
+        // change of the stress state, gets BAND_SUBSTEPS of its own: the part of it that the
+        // elastic trial's stress state crosses (a length, continuous in the strain)
+        let trial: [f64; 4] = std::array::from_fn(|i| start.sigma[i] + trial_change[i]);
+        let (before, after) = (self.stress_state(&start.sigma), self.stress_state(&trial));
+        let band = RELOAD_BAND * start.largest.max(RELOAD_BAND_FLOOR);
+        let crossed = (before.max(after).min(start.largest) - before.min(after).max(start.largest - band)).max(0.0);
+        let count = (elastic_change / scale / SUBSTEP).max(BAND_SUBSTEPS * crossed / band).max(1.0);
+        substeps::blended(
+            count,
+            |n| self.integrate_in(start, d_strain, n),
+            |coarse, fine, share| {
+                let blend = |a: f64, b: f64| a + share * (b - a);
+                Path {
+                    sigma: std::array::from_fn(|i| blend(coarse.sigma[i], fine.sigma[i])),
+                    largest: blend(coarse.largest, fine.largest),
+                    plastic_strain: blend(coarse.plastic_strain, fine.plastic_strain),
+                    last: fine.last,
+                }
+            },
+        )
+    }
+
+    /// Integrate the strain `d_strain` from `start` in `substeps` equal substeps, each by the
+    /// third-order Runge–Kutta method of Ralston and returned to the strength if it leaves it.
+    fn integrate_in(&self, start: &Path, d_strain: [f64; 4], substeps: usize) -> Path {
+        let mut path = *start;
+        let de = d_strain.map(|e| e / substeps as f64);
+        for _ in 0..substeps {
             let sigma = path.sigma;
-            let de = d_strain.map(|e| e * size);
-            // Bogacki–Shampine 3(2): the third-order estimate is taken, the second-order one
-            // measures its error
             let rate = |s: &[f64; 4]| -> ([f64; 4], PlaneStrain) {
                 let moduli = self.moduli(s, path.largest.max(self.stress_state(s)));
-                let ds = mohr_coulomb::trial_stress(&moduli, [0.0; 4], de);
-                (ds, moduli)
+                (mohr_coulomb::trial_stress(&moduli, [0.0; 4], de), moduli)
             };
             let at = |k: &[(f64, &[f64; 4])]| -> [f64; 4] {
                 std::array::from_fn(|i| sigma[i] + k.iter().map(|(c, d)| c * d[i]).sum::<f64>())
@@ -269,51 +315,32 @@ impl DuncanChang {
             let (k2, _) = rate(&at(&[(0.5, &k1)]));
             let (k3, _) = rate(&at(&[(0.75, &k2)]));
             let next = at(&[(2.0 / 9.0, &k1), (1.0 / 3.0, &k2), (4.0 / 9.0, &k3)]);
-            let (k4, second) = rate(&next);
-            let lower = at(&[(7.0 / 24.0, &k1), (0.25, &k2), (1.0 / 3.0, &k3), (0.125, &k4)]);
             // the strength: a substep that leaves the surface goes back to it, with the substep's
-            // mean elasticity; its error is then that of the returned stress
+            // mean elasticity
+            let second = self.moduli(&next, path.largest.max(self.stress_state(&next)));
             let average = PlaneStrain {
                 youngs_modulus: 0.5 * (first.youngs_modulus + second.youngs_modulus),
                 poissons_ratio: 0.5 * (first.poissons_ratio + second.poissons_ratio),
             };
             let limit = self.limit(self.confinement(&sigma));
             let returned = mohr_coulomb::update_with_hoop(&limit, &average, next, [0.0; 4]);
-            let lower = if returned.state.is_plastic() {
-                mohr_coulomb::update_with_hoop(&limit, &average, lower, [0.0; 4]).stress
-            } else {
-                lower
-            };
-            let scale = next.iter().chain(&sigma).fold(self.cohesion, |m, v| m.max(v.abs()));
-            let tolerance = if returned.state.is_plastic() { TOLERANCE_ON_STRENGTH } else { TOLERANCE };
-            let error = returned.stress.iter().zip(&lower).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()))
-                / scale.max(self.atmospheric_pressure);
-            if error > tolerance && !last_chance {
-                size *= (0.9 * (tolerance / error).cbrt()).max(0.2);
-                rejected = true;
-                continue;
-            }
             path.plastic_strain += returned.plastic_strain;
             path.sigma = returned.stress;
             path.largest = path.largest.max(self.stress_state(&path.sigma));
             path.last = Some(returned);
-            done += size;
-            // (no growth right after a rejection: the step that failed is not tried again at once)
-            let grow = if error > 0.0 { (0.9 * (tolerance / error).cbrt()).min(2.0) } else { 2.0 };
-            size *= if rejected { grow.min(1.0) } else { grow }.max(0.2);
-            rejected = false;
         }
+        path
     }
 }
 
 /// A stress update on its way: the stress so far, the largest stress state so far, the plastic
-/// strain, the last substep's return and the substeps taken.
+/// strain and the last substep's return.
+#[derive(Clone, Copy)]
 struct Path {
     sigma: [f64; 4],
     largest: f64,
     plastic_strain: f64,
     last: Option<StressUpdate>,
-    substeps: usize,
 }
 
 #[cfg(test)]
@@ -363,7 +390,7 @@ mod tests {
         /// by regula falsi (σr rises with it) to 1e-13 of σ3.
         fn compress(&mut self, law: &DuncanChang, d_axial: f64) {
             let target = self.stress[0];
-            let at = |er: f64| law.update(self.stress, self.ss_max, [er, -d_axial, 0.0, er]);
+            let at = |er: f64| law.update(self.stress, self.ss_max, [er, -d_axial, 0.0, er], false);
             let residual = |er: f64| at(er).update.stress[0] - target;
             let er = crate::element::radial_strain_holding(residual, d_axial.abs(), 1e-13, target.abs());
             let next = at(er);
@@ -452,5 +479,50 @@ mod tests {
         eprintln!("reloaded curve's offset from the hyperbola: {lo:.3e} to {hi:.3e}");
         assert!(lo > -1e-7 && hi < 1e-7, "offsets {offsets:?}");
         assert!(hi - lo < 3e-8, "the reloaded curve is not the hyperbola: offsets {offsets:?}");
+    }
+
+    /// The backfill of examples/reinforced-wall made hyperbolic (docs/soil.md).
+    fn wall_fill() -> DuncanChang {
+        DuncanChang {
+            modulus_number: 500.0,
+            modulus_exponent: 0.5,
+            failure_ratio: 0.75,
+            bulk_modulus_number: 250.0,
+            bulk_modulus_exponent: 0.25,
+            unloading_modulus_number: 1000.0,
+            cohesion: 1.0,
+            friction_angle: 34f64.to_radians(),
+            friction_angle_drop: 0.0,
+            dilatancy_angle: 4f64.to_radians(),
+            atmospheric_pressure: 101.325,
+        }
+    }
+
+    /// Newton's method needs the update to be a continuous function of the strain: sampled along
+    /// εxx in steps of 10⁻⁹, its largest change between neighbours is of the size of the others.
+    /// A point of the wall's compacted lift 5 as it stood in the iteration, on the strength with
+    /// σ3 = 0.19 kPa, below the floor of σ3 (docs/verification.md §11): with the stress level
+    /// measured against the strength at the floored σ3 it was 0.67 there, the loading criterion
+    /// was neutral along the strength, and the update jumped by 0.17 kPa (1.8·10⁴ times the
+    /// median change) between neighbouring strains that followed Et and Eur respectively.
+    #[test]
+    fn a_point_on_the_strength_below_the_floor_updates_continuously() {
+        let law = wall_fill();
+        let stress = [-1.9883225047553617, -2.618324647445352, -2.0934736004563326, -1.454262645052578];
+        let (largest, d_strain) =
+            (0.2114483273529356, [0.001290361166704881, -0.0004195394812919831, -0.012370906266717554, 0.0]);
+        let updates: Vec<[f64; 4]> = (0..=100)
+            .map(|k| {
+                let mut e = d_strain;
+                e[0] += 1e-9 * (k as f64 - 50.0);
+                law.update(stress, largest, e, false).update.stress
+            })
+            .collect();
+        let mut changes: Vec<f64> =
+            updates.windows(2).map(|w| (0..4).map(|i| (w[1][i] - w[0][i]).abs()).fold(0.0, f64::max)).collect();
+        changes.sort_by(f64::total_cmp);
+        let ratio = changes[changes.len() - 1] / changes[changes.len() / 2];
+        eprintln!("largest change against the median: {ratio:.3}");
+        assert!(ratio < 3.0, "largest change against the median: {ratio}");
     }
 }

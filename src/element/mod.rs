@@ -10,6 +10,7 @@ pub mod mohr_coulomb;
 pub mod soil_law;
 pub mod soil_state;
 pub mod solid;
+pub mod substeps;
 pub mod yield_mechanisms;
 
 /// The radial strain that holds σr of a triaxial point: the root of `residual` (σr less its

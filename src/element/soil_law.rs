@@ -22,8 +22,8 @@ impl SoilLaw {
     /// part (a Mohr–Coulomb soil's elasticity, a Duncan–Chang soil's moduli or a hardening soil's
     /// Eur at the new stress). `elastic` is a Mohr–Coulomb soil's elasticity (the others' follows
     /// their stresses). `consistent`: whether the caller uses a plastic point's tangent (a
-    /// hardening soil differentiates its update for it, at four more integrations; without, it
-    /// gives its elasticity).
+    /// hardening soil or a Duncan–Chang soil differentiates its update for it, at four more
+    /// integrations; without, it gives its elasticity or the last substep's return).
     pub fn update(
         &self,
         elastic: &PlaneStrain,
@@ -37,7 +37,7 @@ impl SoilLaw {
                 (mohr_coulomb::update_with_hoop(law, elastic, committed.stress, d_strain), *elastic)
             }
             SoilLaw::DuncanChang(law) => {
-                let u = law.update(committed.stress, committed.largest_stress_state, d_strain);
+                let u = law.update(committed.stress, committed.largest_stress_state, d_strain, consistent);
                 state.largest_stress_state = u.stress_state_max;
                 (u.update, u.elasticity)
             }
@@ -92,7 +92,9 @@ impl SoilLaw {
     pub fn non_associated(&self) -> bool {
         match self {
             SoilLaw::MohrCoulomb(law) => law.dilatancy_angle != law.friction_angle,
-            SoilLaw::DuncanChang(law) => law.dilatancy_angle != law.friction_angle || law.friction_angle_drop != 0.0,
+            // a plastic point's tangent is its update's derivative, unsymmetric where the moduli
+            // change along it
+            SoilLaw::DuncanChang(_) => true,
             // the shear hardening's flow (ψm) is never its gradient's
             SoilLaw::HardeningSoil(_) => true,
         }

@@ -32,6 +32,7 @@
 
 use super::{HardeningSoil, Integrated, Point, Rate, CONFINEMENT_FLOOR, SUBSTEP};
 use crate::element::mohr_coulomb::{self, YieldState};
+use crate::element::substeps;
 use crate::element::yield_mechanisms::{Principal, Surfaces, CORNER};
 use nalgebra::Vector4;
 
@@ -61,23 +62,22 @@ impl HardeningSoil {
         let elastic_change = (self.elasticity(&start.stress).d_matrix_with_hoop() * total).amax();
         let scale = start.stress.iter().fold(CONFINEMENT_FLOOR * pref, |m, v| m.max(v.abs())).max(elastic_change);
         let count = (elastic_change / scale / SUBSTEP).max(1.0);
-        let fewer = count.floor();
-        let share = count - fewer;
-        let coarse = self.integrate_in(start, total, fewer as usize);
-        if share == 0.0 {
-            return coarse;
-        }
-        let fine = self.integrate_in(start, total, fewer as usize + 1);
-        let blend = |a: f64, b: f64| a + share * (b - a);
-        Integrated {
-            point: Point {
-                stress: std::array::from_fn(|i| blend(coarse.point.stress[i], fine.point.stress[i])),
-                shear_hardening: blend(coarse.point.shear_hardening, fine.point.shear_hardening),
-                preconsolidation: blend(coarse.point.preconsolidation, fine.point.preconsolidation),
+        substeps::blended(
+            count,
+            |n| self.integrate_in(start, total, n),
+            |coarse, fine, share| {
+                let blend = |a: f64, b: f64| a + share * (b - a);
+                Integrated {
+                    point: Point {
+                        stress: std::array::from_fn(|i| blend(coarse.point.stress[i], fine.point.stress[i])),
+                        shear_hardening: blend(coarse.point.shear_hardening, fine.point.shear_hardening),
+                        preconsolidation: blend(coarse.point.preconsolidation, fine.point.preconsolidation),
+                    },
+                    plastic_strain: blend(coarse.plastic_strain, fine.plastic_strain),
+                    state: fine.state,
+                }
             },
-            plastic_strain: blend(coarse.plastic_strain, fine.plastic_strain),
-            state: fine.state,
-        }
+        )
     }
 
     /// Integrate the strain `total` from `start` in `substeps` equal substeps.

@@ -48,6 +48,7 @@
 
 use super::mohr_coulomb::{MohrCoulomb, StressUpdate, YieldState};
 use super::solid::PlaneStrain;
+use super::substeps;
 use super::yield_mechanisms::{Family, Mechanism, Mechanisms, Principal, Surfaces, CORNER};
 use nalgebra::{Matrix4, Vector4};
 
@@ -59,10 +60,6 @@ pub const SUBSTEP: f64 = 0.002;
 /// The smallest r = (c·cos φ + σ3·sin φ)/(c·cos φ + pref·sin φ) that the moduli and qa see: a point at
 /// the ground surface or in tension keeps a stiffness (the floor rounded, `stiffness_factor`).
 pub const CONFINEMENT_FLOOR: f64 = 0.01;
-/// The perturbation of the tangent's forward differences, relative to the strain increment.
-const DIFFERENCE_STEP: f64 = 1e-6;
-/// The smallest strain increment the differences are taken relative to.
-const SMALLEST_INCREMENT: f64 = 1e-8;
 /// A point is on a surface within this fraction of its γp or pp.
 const ON_SURFACE: f64 = 1e-9;
 
@@ -535,26 +532,13 @@ impl HardeningSoil {
         }
     }
 
-    /// The update's own tangent, by forward differences of the integration from `start` (after
-    /// Pérez-Foguet, Rodríguez-Ferran & Huerta 2000, "Numerical differentiation for local and
-    /// global tangent operators in computational plasticity", CMAME 189, 277–296): each strain
-    /// component perturbed by [`DIFFERENCE_STEP`] of the increment's largest. The continuum tangent
-    /// at the end is not it: over an increment from a small stress the stiffness changes several
-    /// times, and with it Newton's iteration converged only linearly (47 iterations against 6 on
-    /// the first half of a placed lift).
+    /// The update's own tangent, by forward differences of the integration from `start`
+    /// ([`substeps::difference_tangent`]). The continuum tangent at the end is not it: over an
+    /// increment from a small stress the stiffness changes several times, and with it Newton's
+    /// iteration converged only linearly (47 iterations against 6 on the first half of a placed
+    /// lift).
     fn difference_tangent(&self, start: Point, d_strain: [f64; 4], stress: &[f64; 4]) -> Matrix4<f64> {
-        let size = d_strain.iter().fold(SMALLEST_INCREMENT, |m, x| m.max(x.abs()));
-        let h = DIFFERENCE_STEP * size;
-        let mut t = Matrix4::zeros();
-        for j in 0..4 {
-            let mut e = d_strain;
-            e[j] += h;
-            let other = self.integrate(start, Vector4::from(e)).point.stress;
-            for i in 0..4 {
-                t[(i, j)] = (other[i] - stress[i]) / h;
-            }
-        }
-        t
+        substeps::difference_tangent(d_strain, stress, |e| self.integrate(start, Vector4::from(e)).point.stress)
     }
 }
 
