@@ -500,11 +500,12 @@ mod tests {
 
     /// Newton's method needs the update to be a continuous function of the strain: sampled along
     /// εxx in steps of 10⁻⁹, its largest change between neighbours is of the size of the others.
-    /// A point of the wall's compacted lift 5 as it stood in the iteration, on the strength with
-    /// σ3 = 0.19 kPa, below the floor of σ3 (docs/verification.md §11): with the stress level
-    /// measured against the strength at the floored σ3 it was 0.67 there, the loading criterion
-    /// was neutral along the strength, and the update jumped by 0.17 kPa (1.8·10⁴ times the
-    /// median change) between neighbouring strains that followed Et and Eur respectively.
+    /// A point of the hyperbolic wall with its lifts compacted (docs/soil.md, Limitations), in
+    /// lift 5 as it stood in the iteration, on the strength with σ3 = 0.19 kPa, below the floor of
+    /// σ3 (docs/verification.md §11): with the stress level measured against the strength at the
+    /// floored σ3 it was 0.67 there, the loading criterion was neutral along the strength, and the
+    /// update jumped by 0.17 kPa (1.8·10⁴ times the median change) between neighbouring strains
+    /// that followed Et and Eur respectively.
     #[test]
     fn a_point_on_the_strength_below_the_floor_updates_continuously() {
         let law = wall_fill();
