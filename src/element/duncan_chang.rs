@@ -137,7 +137,13 @@ impl DuncanChang {
 
     /// (σ1 − σ3)f at confinement `sigma_3`.
     pub fn strength(&self, sigma_3: f64) -> f64 {
-        let (s, c) = self.friction_angle_at(sigma_3).sin_cos();
+        self.strength_with_friction_of(sigma_3, sigma_3)
+    }
+
+    /// (σ1 − σ3)f at confinement `sigma_3` (not floored: below zero in tension), with φ at the
+    /// confinement `friction_of`.
+    fn strength_with_friction_of(&self, sigma_3: f64, friction_of: f64) -> f64 {
+        let (s, c) = self.friction_angle_at(friction_of).sin_cos();
         (2.0 * self.cohesion * c + 2.0 * sigma_3 * s) / (1.0 - s)
     }
 
@@ -151,8 +157,7 @@ impl DuncanChang {
     /// the ratio is 1 exactly where the return map holds the stress, below the floor of σ3 too.
     fn stress_ratio(&self, stress: &[f64; 4]) -> f64 {
         let (largest, smallest) = extreme_principal(stress);
-        let (s, c) = self.friction_angle_at(self.confinement(stress)).sin_cos();
-        let strength = ((2.0 * self.cohesion * c - 2.0 * largest * s) / (1.0 - s)).max(0.0);
+        let strength = self.strength_with_friction_of(-largest, self.confinement(stress)).max(0.0);
         ((largest - smallest) / strength.max(f64::MIN_POSITIVE)).min(RATIO_CAP)
     }
 
