@@ -91,21 +91,23 @@ pub fn check(saved: &Checkpoint, model: &Model, stage_index: usize, step: usize)
     }
     finite(&p.targets, "targets")?;
     finite(&[p.reached], "reached")?;
-    if p.targets.len() > stage.load_factors.len() {
-        return Err(format!(
-            "it has {} load factors still to reach, more than the stage's {}",
-            p.targets.len(),
-            stage.load_factors.len()
-        ));
-    }
-    if p.planned > stage.load_factors.len() {
-        return Err(format!("it has reached step {} of a stage of {}", p.planned, stage.load_factors.len()));
-    }
     if p.cutbacks > model.analysis.max_cutbacks {
         return Err(format!(
             "it counts {} cutbacks, more than max_cutbacks = {}",
             p.cutbacks, model.analysis.max_cutbacks
         ));
+    }
+    // each cutback of the increment in progress puts one midpoint before the plan's factors
+    if p.targets.len() > stage.load_factors.len() + p.cutbacks {
+        return Err(format!(
+            "it has {} load factors still to reach, more than the stage's {} and its {} cutbacks' midpoints",
+            p.targets.len(),
+            stage.load_factors.len(),
+            p.cutbacks
+        ));
+    }
+    if p.planned > stage.load_factors.len() {
+        return Err(format!("it has reached step {} of a stage of {}", p.planned, stage.load_factors.len()));
     }
     if let Some(last) = &p.last {
         length(&last.u_before, dofs, "last.u_before")?;
