@@ -32,12 +32,13 @@
 //! the modulus only softens along it, and the smallest where it unloads, so that it only stiffens.
 //! An increment loads where its elastic trial at Eur raises the stress state, unloads where it
 //! lowers it, and is the blend of the two where the trial changes the stress state by less than
-//! half the band (with the trial at Et, softer, the first small increments of an unloading
-//! counted partly as loading, and the reloaded curve of the triaxial test of
-//! docs/verification.md §11 came out 1.1·10⁻⁵ of strain off the hyperbola). Read at the path's own stress state, a multiaxial path whose stress state hardly changed
-//! near its largest crossed the band back and forth within one increment (Et turned it up, Eur
-//! down), and the update depended chaotically on its number of substeps. On a path whose stress
-//! state moves one way, as in a triaxial test, the extreme is the stress state itself.
+//! half the band (with the trial at Et, softer, the first small increments of an unloading counted
+//! partly as loading, and the reloaded curve of the triaxial test of docs/verification.md §11 came
+//! out 1.1·10⁻⁵ of strain off the hyperbola). Read at the path's own stress state, a multiaxial
+//! path whose stress state hardly changed near its largest crossed the band back and forth within
+//! one increment (Et turned it up, Eur down), and the update depended chaotically on its number of
+//! substeps. On a path whose stress state moves one way, as in a triaxial test, the extreme is the
+//! stress state itself.
 //!
 //! **Stress update.** The moduli change along the increment, so the strain increment is integrated
 //! in equal substeps by the third-order Runge–Kutta method of Ralston, each changing the stress
