@@ -27,19 +27,6 @@
 //! iteration cycles. (The band makes the first 1 % of an unloading, and the last 1 % of a
 //! reloading, softer than Eur.)
 //!
-//! **Which way an increment goes.** Along an increment the band is read not at the path's own
-//! stress state but at its running extreme: the largest so far where the increment loads, so that
-//! the modulus only softens along it, and the smallest where it unloads, so that it only stiffens.
-//! An increment loads where its elastic trial at Eur raises the stress state, unloads where it
-//! lowers it, and is the blend of the two where the trial changes the stress state by less than
-//! half the band (with the trial at Et, softer, the first small increments of an unloading counted
-//! partly as loading, and the reloaded curve of the triaxial test of docs/verification.md §11 came
-//! out 1.1·10⁻⁵ of strain off the hyperbola). Read at the path's own stress state, a multiaxial
-//! path whose stress state hardly changed near its largest crossed the band back and forth within
-//! one increment (Et turned it up, Eur down), and the update depended chaotically on its number of
-//! substeps. On a path whose stress state moves one way, as in a triaxial test, the extreme is the
-//! stress state itself.
-//!
 //! **Stress update.** The moduli change along the increment, so the strain increment is integrated
 //! in equal substeps by the third-order Runge–Kutta method of Ralston, each changing the stress
 //! elastically by about [`SUBSTEP`] of itself; a crossing of the loading criterion's band gets
@@ -202,24 +189,14 @@ impl DuncanChang {
     /// `largest`: Et at its largest state, Eur below (1 − [`RELOAD_BAND`]) of it, and in between
     /// linear in the stress state; B within its bounds.
     pub fn moduli(&self, stress: &[f64; 4], largest: f64) -> PlaneStrain {
-        self.moduli_at_level(stress, largest, self.stress_state(stress))
-    }
-
-    /// The moduli at `stress` with the loading criterion's band read at the stress state `level`
-    /// (the stress's own, or within an update the running extreme of its path).
-    fn moduli_at_level(&self, stress: &[f64; 4], largest: f64, level: f64) -> PlaneStrain {
         let sigma_3 = self.confinement(stress);
         let primary = (1.0 - self.failure_ratio * self.stress_level(stress)).powi(2) * self.initial_modulus(sigma_3);
         let unloading = self.unloading_modulus(sigma_3);
-        let below = (largest - level) / self.band(largest);
+        let band = RELOAD_BAND * largest.max(RELOAD_BAND_FLOOR);
+        let below = (largest - self.stress_state(stress)) / band;
         let young = primary + (unloading - primary) * below.clamp(0.0, 1.0);
         let bulk = self.bulk_modulus(sigma_3).clamp(BULK_MIN * young, BULK_MAX * young);
         PlaneStrain { youngs_modulus: young, poissons_ratio: (3.0 * bulk - young) / (6.0 * bulk) }
-    }
-
-    /// The width of the loading criterion's band below the largest stress state `largest`.
-    fn band(&self, largest: f64) -> f64 {
-        RELOAD_BAND * largest.max(RELOAD_BAND_FLOOR)
     }
 
     /// The elasticity of a soil at rest under σ3 = pa, unloading: what the elastic predictor and a
@@ -267,9 +244,12 @@ impl DuncanChang {
         d_strain: [f64; 4],
         differentiate: bool,
     ) -> HyperbolicUpdate {
-        let level = self.stress_state(&stress);
-        let start =
-            Path { sigma: stress, largest: stress_state_max.max(level), level, plastic_strain: 0.0, last: None };
+        let start = Path {
+            sigma: stress,
+            largest: stress_state_max.max(self.stress_state(&stress)),
+            plastic_strain: 0.0,
+            last: None,
+        };
         let path = self.integrate(&start, d_strain);
         let elasticity = self.moduli(&path.sigma, path.largest);
         let plastic = path.last.filter(|r| r.state.is_plastic());
@@ -289,12 +269,10 @@ impl DuncanChang {
         HyperbolicUpdate { update, stress_state_max: path.largest, elasticity }
     }
 
-    /// Integrate the strain `d_strain` from `start`: as loading where the elastic trial at Eur
-    /// raises the stress state, as unloading where it lowers it, and blended where it changes it
-    /// by less than half the loading criterion's band either way. Each is integrated in equal
-    /// substeps, each changing the stress elastically by about [`SUBSTEP`] of itself (or of the
-    /// whole change, if larger: at most 1/[`SUBSTEP`] of them). Their number x is not rounded: the
-    /// result blends ⌊x⌋ and ⌊x⌋ + 1 substeps, so that it is a continuous function of the strain.
+    /// Integrate the strain `d_strain` from `start` in equal substeps, each changing the stress
+    /// elastically by about [`SUBSTEP`] of itself (or of the whole change, if larger: at most
+    /// 1/[`SUBSTEP`] of them). Their number x is not rounded: the result blends ⌊x⌋ and ⌊x⌋ + 1
+    /// substeps, so that it is a continuous function of the strain.
     fn integrate(&self, start: &Path, d_strain: [f64; 4]) -> Path {
         let pa = self.atmospheric_pressure;
         let elastic = self.moduli(&start.sigma, start.largest);
@@ -306,42 +284,33 @@ impl DuncanChang {
         // elastic trial's stress state crosses (a length, continuous in the strain)
         let trial: [f64; 4] = std::array::from_fn(|i| start.sigma[i] + trial_change[i]);
         let (before, after) = (self.stress_state(&start.sigma), self.stress_state(&trial));
-        // which way the increment goes: by the trial at Eur, the modulus it unloads with
-        let unloading_trial: [f64; 4] = {
-            let eur = self.moduli_at_level(&start.sigma, start.largest, f64::NEG_INFINITY);
-            let change = mohr_coulomb::trial_stress(&eur, [0.0; 4], d_strain);
-            std::array::from_fn(|i| start.sigma[i] + change[i])
-        };
-        let turn = self.stress_state(&unloading_trial) - before;
-        let band = self.band(start.largest);
+        let band = RELOAD_BAND * start.largest.max(RELOAD_BAND_FLOOR);
         let crossed = (before.max(after).min(start.largest) - before.min(after).max(start.largest - band)).max(0.0);
         let count = (elastic_change / scale / SUBSTEP).max(BAND_SUBSTEPS * crossed / band).max(1.0);
-        let along =
-            |direction| substeps::blended(count, |n| self.integrate_in(start, d_strain, n, direction), Path::blend);
-        let loading = (0.5 + turn / band).clamp(0.0, 1.0);
-        if loading == 1.0 {
-            along(Direction::Loading)
-        } else if loading == 0.0 {
-            along(Direction::Unloading)
-        } else {
-            Path::blend(&along(Direction::Unloading), &along(Direction::Loading), loading)
-        }
+        substeps::blended(
+            count,
+            |n| self.integrate_in(start, d_strain, n),
+            |coarse, fine, share| {
+                let blend = |a: f64, b: f64| a + share * (b - a);
+                Path {
+                    sigma: std::array::from_fn(|i| blend(coarse.sigma[i], fine.sigma[i])),
+                    largest: blend(coarse.largest, fine.largest),
+                    plastic_strain: blend(coarse.plastic_strain, fine.plastic_strain),
+                    last: fine.last,
+                }
+            },
+        )
     }
 
     /// Integrate the strain `d_strain` from `start` in `substeps` equal substeps, each by the
     /// third-order Runge–Kutta method of Ralston and returned to the strength if it leaves it.
-    /// The band of the loading criterion is read at the running extreme of the path's stress
-    /// state that `direction` names, below the largest stress state at the start.
-    fn integrate_in(&self, start: &Path, d_strain: [f64; 4], substeps: usize, direction: Direction) -> Path {
+    fn integrate_in(&self, start: &Path, d_strain: [f64; 4], substeps: usize) -> Path {
         let mut path = *start;
         let de = d_strain.map(|e| e / substeps as f64);
         for _ in 0..substeps {
             let sigma = path.sigma;
-            let moduli = |s: &[f64; 4]| {
-                self.moduli_at_level(s, start.largest, direction.extend(path.level, self.stress_state(s)))
-            };
             let rate = |s: &[f64; 4]| -> ([f64; 4], PlaneStrain) {
-                let moduli = moduli(s);
+                let moduli = self.moduli(s, path.largest.max(self.stress_state(s)));
                 (mohr_coulomb::trial_stress(&moduli, [0.0; 4], de), moduli)
             };
             let at = |k: &[(f64, &[f64; 4])]| -> [f64; 4] {
@@ -353,7 +322,7 @@ impl DuncanChang {
             let next = at(&[(2.0 / 9.0, &k1), (1.0 / 3.0, &k2), (4.0 / 9.0, &k3)]);
             // the strength: a substep that leaves the surface goes back to it, with the substep's
             // mean elasticity
-            let second = moduli(&next);
+            let second = self.moduli(&next, path.largest.max(self.stress_state(&next)));
             let average = PlaneStrain {
                 youngs_modulus: 0.5 * (first.youngs_modulus + second.youngs_modulus),
                 poissons_ratio: 0.5 * (first.poissons_ratio + second.poissons_ratio),
@@ -362,57 +331,21 @@ impl DuncanChang {
             let returned = mohr_coulomb::update_with_hoop(&limit, &average, next, [0.0; 4]);
             path.plastic_strain += returned.plastic_strain;
             path.sigma = returned.stress;
-            let reached = self.stress_state(&path.sigma);
-            path.largest = path.largest.max(reached);
-            path.level = direction.extend(path.level, reached);
+            path.largest = path.largest.max(self.stress_state(&path.sigma));
             path.last = Some(returned);
         }
         path
     }
 }
 
-/// Which way an increment goes (the module's notes): loading reads the loading criterion's band
-/// at the largest stress state of the path so far, unloading at the smallest.
-#[derive(Clone, Copy)]
-enum Direction {
-    Loading,
-    Unloading,
-}
-
-impl Direction {
-    /// The path's extreme stress state so far, with `reached` the one it has just reached.
-    fn extend(self, extreme: f64, reached: f64) -> f64 {
-        match self {
-            Direction::Loading => extreme.max(reached),
-            Direction::Unloading => extreme.min(reached),
-        }
-    }
-}
-
-/// A stress update on its way: the stress so far, the largest stress state so far, the running
-/// extreme of the stress state that the band is read at, the plastic strain and the last
-/// substep's return.
+/// A stress update on its way: the stress so far, the largest stress state so far, the plastic
+/// strain and the last substep's return.
 #[derive(Clone, Copy)]
 struct Path {
     sigma: [f64; 4],
     largest: f64,
-    level: f64,
     plastic_strain: f64,
     last: Option<StressUpdate>,
-}
-
-impl Path {
-    /// `first` + `share`·(`second` − `first`), with the second's last return.
-    fn blend(first: &Path, second: &Path, share: f64) -> Path {
-        let blend = |a: f64, b: f64| a + share * (b - a);
-        Path {
-            sigma: std::array::from_fn(|i| blend(first.sigma[i], second.sigma[i])),
-            largest: blend(first.largest, second.largest),
-            level: blend(first.level, second.level),
-            plastic_strain: blend(first.plastic_strain, second.plastic_strain),
-            last: second.last,
-        }
-    }
 }
 
 #[cfg(test)]
