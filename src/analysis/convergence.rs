@@ -31,6 +31,8 @@ pub enum IncrementError {
         reference: f64,
         unsettled: Vec<String>,
         yielding: usize,
+        /// Given up after this many iterations without progress (`stall_iterations`).
+        stalled: Option<usize>,
     },
 }
 
@@ -42,11 +44,14 @@ impl IncrementError {
             IncrementError::NonFinite { iteration, first } => {
                 format!("a non-finite number ({}) in iteration {iteration}, first in {}", first.value, first.location)
             }
-            IncrementError::NotConverged { iterations, residual, reference, unsettled, yielding } => {
+            IncrementError::NotConverged { iterations, residual, reference, unsettled, yielding, stalled } => {
                 let mut s = format!(
                     "no equilibrium after {iterations} iterations (force residual {:.1e} of the reference)",
                     residual / reference
                 );
+                if let Some(n) = stalled {
+                    s += &format!("; no progress in its last {n}");
+                }
                 if !unsettled.is_empty() {
                     s += &format!("; {} interface points kept changing state", unsettled.len());
                 }
@@ -78,7 +83,7 @@ impl IncrementError {
                 location: first.location,
                 cutbacks,
             },
-            IncrementError::NotConverged { iterations, residual, reference, unsettled, yielding } => Error::NotConverged {
+            IncrementError::NotConverged { iterations, residual, reference, unsettled, yielding, stalled } => Error::NotConverged {
                 file: file.to_path_buf(),
                 stage: stage.to_string(),
                 step,
@@ -86,7 +91,7 @@ impl IncrementError {
                 residual,
                 reference,
                 hint: format!(
-                    "after {cutbacks} cutbacks. {}{}Try more load factors in this stage, a larger max_iterations, or the newton scheme",
+                    "after {cutbacks} cutbacks. {}{}{}Try more load factors in this stage, a larger max_iterations, or the newton scheme",
                     if unsettled.is_empty() {
                         String::new()
                     } else {
@@ -99,6 +104,13 @@ impl IncrementError {
                         )
                     } else {
                         String::new()
+                    },
+                    match stalled {
+                        Some(n) => format!(
+                            "The last increment was given up after {n} iterations in which the residual did not fall \
+                             (stall_iterations). "
+                        ),
+                        None => String::new(),
                     }
                 ),
             },

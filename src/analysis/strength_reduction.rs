@@ -6,7 +6,7 @@
 //! restored to full strength afterwards.
 
 use super::context::Context;
-use super::equilibrium::{self, EmbeddedSigmaN};
+use super::equilibrium::{self, Purpose};
 use super::sink::{FactorOfSafety, StepSink};
 use super::soil::SoilSetup;
 use super::stage::{complete_increment, Increment, Stage};
@@ -55,7 +55,7 @@ pub fn search(
         let started = Instant::now();
         let snapshot = state.clone();
         apply(state, &mut cx.setup, factor);
-        match equilibrium::increment(cx, &stage.dofs, state, EmbeddedSigmaN::AsIterated) {
+        match equilibrium::increment(cx, &stage.dofs, state, Purpose::StrengthTrial) {
             Ok(report) => {
                 trials.push((factor, true));
                 safe = factor;

@@ -140,6 +140,9 @@ pub struct AnalysisSettings {
     /// Displacement correction relative to the increment.
     pub displacement_tolerance: f64,
     pub max_iterations: usize,
+    /// Give an increment up (and cut it back) after this many iterations in which its
+    /// out-of-balance force did not fall below 99 % of its smallest so far (0: never).
+    pub stall_iterations: usize,
     /// How many times a failing increment may be halved.
     pub max_cutbacks: usize,
     /// Hold σn at its value at the start of each stage (a stage's own `freeze_normal_stress`
@@ -179,6 +182,7 @@ impl Default for AnalysisSettings {
             force_tolerance: 1e-9,
             displacement_tolerance: 1e-9,
             max_iterations: 300,
+            stall_iterations: 30,
             max_cutbacks: 8,
             freeze_normal_stress: false,
             reserved_segments: 2,

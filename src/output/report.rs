@@ -152,8 +152,16 @@ fn model_section(r: &mut String, model: &Model, summary: &RunSummary, units: &cr
     let a = &model.analysis;
     let _ = writeln!(
         r,
-        "\nIteration: `{:?}`, re-association `{:?}`, force tolerance {:e}, at most {} iterations and {} cutbacks per increment.",
-        a.scheme, a.reassociation, a.force_tolerance, a.max_iterations, a.max_cutbacks
+        "\nIteration: `{:?}`, re-association `{:?}`, force tolerance {:e}, at most {} iterations{} and {} cutbacks per increment.",
+        a.scheme,
+        a.reassociation,
+        a.force_tolerance,
+        a.max_iterations,
+        match a.stall_iterations {
+            0 => String::new(),
+            n => format!(" ({n} without progress)"),
+        },
+        a.max_cutbacks
     );
 }
 

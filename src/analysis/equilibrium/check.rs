@@ -67,6 +67,10 @@ pub(super) fn check(
         let measures = Measures::of(&checked, &element, deferred.floor, state, dofs);
         cx.stats.residual_seconds += t.elapsed().as_secs_f64();
         it.last_residual = Some((measures.residual, measures.reference));
+        let threshold = (settings.force_tolerance * measures.reference).max(measures.floor);
+        if let Some(n) = it.progress.stalled(measures.residual, threshold) {
+            return Err(not_converged(cx, dofs, state, it, iteration, 0, Some(n)));
+        }
         let last = iteration == settings.max_iterations;
         if !measures.converged(settings) && !last && measures.residual.is_finite() {
             it.carried_element_force = Some(element);
@@ -114,21 +118,9 @@ pub(super) fn check(
             operator_force,
         }));
     }
-    if iteration == settings.max_iterations {
-        let mut unsettled: Vec<(usize, usize)> =
-            it.flips.iter().map(|(&k, &n)| (k, n)).filter(|&(_, n)| n > 1).collect();
-        unsettled.sort_by_key(|&(_, n)| std::cmp::Reverse(n));
-        let unsettled = unsettled
-            .into_iter()
-            .map(|(k, n)| format!("{} ({n} changes)", describe(&cx.model.mesh, &state.interfaces, dofs.multipliers[k])))
-            .collect();
-        return Err(IncrementError::NotConverged {
-            iterations: iteration,
-            residual,
-            reference,
-            unsettled,
-            yielding: soil_trial.yielding,
-        });
+    let stalled = it.progress.stalled(residual, (settings.force_tolerance * reference).max(measures.floor));
+    if stalled.is_some() || iteration == settings.max_iterations {
+        return Err(not_converged(cx, dofs, state, it, iteration, soil_trial.yielding, stalled));
     }
     if it.condensed_solve {
         // the whole system was solved condensed: the interior is in balance, and the iterations
@@ -141,4 +133,25 @@ pub(super) fn check(
     it.carried_soil = Some(soil_trial);
     it.carried_element_force = Some(element_force);
     Ok(None)
+}
+
+/// The failure of an increment that ran out of iterations or stalled: its last residual, and the
+/// interface points that changed state more than once.
+fn not_converged(
+    cx: &Context,
+    dofs: &DofMap,
+    state: &State,
+    it: &Iterations,
+    iteration: usize,
+    yielding: usize,
+    stalled: Option<usize>,
+) -> IncrementError {
+    let (residual, reference) = it.last_residual.unwrap_or((0.0, f64::MIN_POSITIVE));
+    let mut unsettled: Vec<(usize, usize)> = it.flips.iter().map(|(&k, &n)| (k, n)).filter(|&(_, n)| n > 1).collect();
+    unsettled.sort_by_key(|&(_, n)| std::cmp::Reverse(n));
+    let unsettled = unsettled
+        .into_iter()
+        .map(|(k, n)| format!("{} ({n} changes)", describe(&cx.model.mesh, &state.interfaces, dofs.multipliers[k])))
+        .collect();
+    IncrementError::NotConverged { iterations: iteration, residual, reference, unsettled, yielding, stalled }
 }

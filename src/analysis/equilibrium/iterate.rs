@@ -11,9 +11,15 @@ use super::solve::solve_iteration;
 use crate::dofs::DofMap;
 use crate::element::soil_state::Tangent;
 
-/// Iterate one increment to equilibrium: linearise, solve, update, check.
-pub(super) fn iterate(cx: &mut Context, dofs: &DofMap, state: &mut State) -> Result<IncrementReport, IncrementError> {
-    let mut it = Iterations::new(cx, state);
+/// Iterate one increment to equilibrium: linearise, solve, update, check; given up after
+/// `stall_iterations` iterations without progress (0: only after `max_iterations`).
+pub(super) fn iterate(
+    cx: &mut Context,
+    dofs: &DofMap,
+    state: &mut State,
+    stall_iterations: usize,
+) -> Result<IncrementReport, IncrementError> {
+    let mut it = Iterations::new(cx, state, stall_iterations);
     let max_iterations = cx.options.analysis.max_iterations;
     for iteration in 1..=max_iterations {
         cx.stats.iterations += 1;
@@ -46,5 +52,6 @@ pub(super) fn iterate(cx: &mut Context, dofs: &DofMap, state: &mut State) -> Res
         reference: reference.max(f64::MIN_POSITIVE),
         unsettled: it.state_changes.iter().rev().take(12).cloned().collect(),
         yielding: 0,
+        stalled: None,
     })
 }

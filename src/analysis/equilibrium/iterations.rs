@@ -6,6 +6,7 @@ use super::super::singular::Fallbacks;
 use super::super::springs::SpringResult;
 use super::super::state::State;
 use super::condensation::Deferred;
+use super::stall::Progress;
 use crate::element::soil_state::{SoilTrial, Tangent};
 use crate::interface::active_set::Flips;
 use crate::model::Scheme;
@@ -63,6 +64,8 @@ pub(super) struct Iterations {
     pub condensed_solve: bool,
     /// The interface iteration under way ([`condensation::Deferred`]).
     pub deferred: Option<Deferred>,
+    /// The smallest residual so far and the iterations since ([`stall`](super::stall)).
+    pub progress: Progress,
 }
 
 /// An iteration's linear solution.
@@ -78,7 +81,7 @@ pub(super) struct Solution {
 impl Iterations {
     /// The start of an increment: nothing carried, but the elements' force at the end of the time
     /// step before, where it still holds (`Context::take_carried_force`).
-    pub fn new(cx: &mut Context, state: &State) -> Iterations {
+    pub fn new(cx: &mut Context, state: &State, stall_iterations: usize) -> Iterations {
         let (carried_element_force, start_floor) = match cx.take_carried_force(&state.u) {
             Some((force, floor)) => (Some(force), Some(floor)),
             None => (None, None),
@@ -105,6 +108,7 @@ impl Iterations {
             last_residual: None,
             condensed_solve: false,
             deferred: None,
+            progress: Progress::new(stall_iterations),
         }
     }
 }

@@ -19,7 +19,8 @@
 //!   ([`Path`](solve::Path)): on the interface alone, condensed, or in full;
 //! - `interface_path.rs` and `condensation.rs`: the interface iteration's side (the elastic soil
 //!   condensed onto the interface's unknowns, `linsol::condensed`) and its deferred interior;
-//! - `check.rs`: the update of the active set and the convergence test.
+//! - `check.rs`: the update of the active set and the convergence test, and `stall.rs`: an
+//!   increment given up early when its iterations stop making progress.
 //!
 //! [`increment`] is the one way in.
 
@@ -31,6 +32,7 @@ mod iterations;
 mod linearise;
 mod settle;
 mod solve;
+mod stall;
 
 use super::context::Context;
 use super::convergence::IncrementError;
@@ -40,15 +42,18 @@ use iterate::iterate;
 
 pub use iterations::IncrementReport;
 
-/// How an increment treats the σn of its embedded reinforcements (the soil's normal stress across
-/// them).
+/// What an increment is for, which decides how it treats the σn of its embedded reinforcements
+/// (the soil's normal stress across them) and when it is given up.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum EmbeddedSigmaN {
-    /// Iterated again until σn settles (`settle.rs`): a loading step.
-    Settled,
-    /// Taken as the iterations leave it, one pass: a strength-reduction trial. Its trials have
-    /// always been single passes; the two differ only on embedded faces whose σn is not frozen.
-    AsIterated,
+pub enum Purpose {
+    /// A loading step: iterated again until σn settles (`settle.rs`), and given up early when it
+    /// stops making progress (`stall.rs`), so that a cutback comes sooner.
+    Loading,
+    /// A strength-reduction trial: σn taken as the iterations leave it, one pass, and given up
+    /// only after `max_iterations` (the search's definition of failure; a trial near collapse
+    /// may converge after a long stretch without progress). Its trials have always been single
+    /// passes; the two differ in σn only on embedded faces whose σn is not frozen.
+    StrengthTrial,
 }
 
 /// Iterate one increment to equilibrium.
@@ -60,10 +65,11 @@ pub fn increment(
     cx: &mut Context,
     dofs: &DofMap,
     state: &mut State,
-    sigma_n: EmbeddedSigmaN,
+    purpose: Purpose,
 ) -> Result<IncrementReport, IncrementError> {
-    match sigma_n {
-        EmbeddedSigmaN::Settled => settle::settled(cx, dofs, state),
-        EmbeddedSigmaN::AsIterated => iterate(cx, dofs, state),
+    let stall_iterations = cx.options.analysis.stall_iterations;
+    match purpose {
+        Purpose::Loading => settle::settled(cx, dofs, state, stall_iterations),
+        Purpose::StrengthTrial => iterate(cx, dofs, state, 0),
     }
 }

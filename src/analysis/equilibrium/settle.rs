@@ -26,8 +26,14 @@ pub const SETTLED: f64 = 1e-9;
 pub const MAX_PASSES: usize = 50;
 
 /// Iterate an increment to equilibrium, and again while its embedded reinforcements' σn moves.
-pub(super) fn settled(cx: &mut Context, dofs: &DofMap, state: &mut State) -> Result<IncrementReport, IncrementError> {
-    let mut report = iterate(cx, dofs, state)?;
+/// `stall_iterations` as in [`iterate`].
+pub(super) fn settled(
+    cx: &mut Context,
+    dofs: &DofMap,
+    state: &mut State,
+    stall_iterations: usize,
+) -> Result<IncrementReport, IncrementError> {
+    let mut report = iterate(cx, dofs, state, stall_iterations)?;
     let embedded = state.interfaces.iter().flat_map(|i| &i.faces).any(|f| f.embedded.is_some());
     if !embedded || state.frozen_sigma_n.is_some() {
         return Ok(report);
@@ -49,7 +55,7 @@ pub(super) fn settled(cx: &mut Context, dofs: &DofMap, state: &mut State) -> Res
             report.iterations = iterations;
             return Ok(report);
         }
-        report = iterate(cx, dofs, state)?;
+        report = iterate(cx, dofs, state, stall_iterations)?;
         iterations += report.iterations;
     }
     let unsettled = embedded_sigma_n(cx, dofs, state)
@@ -57,7 +63,14 @@ pub(super) fn settled(cx: &mut Context, dofs: &DofMap, state: &mut State) -> Res
         .take(12)
         .map(|(point, s)| format!("{point}: σn from the soil still moving ({s:.4})"))
         .collect();
-    Err(IncrementError::NotConverged { iterations, residual: 0.0, reference: 1.0, unsettled, yielding: 0 })
+    Err(IncrementError::NotConverged {
+        iterations,
+        residual: 0.0,
+        reference: 1.0,
+        unsettled,
+        yielding: 0,
+        stalled: None,
+    })
 }
 
 /// Each embedded point's σn (named), from the soil at `state.soil_sigma_from` (or the last

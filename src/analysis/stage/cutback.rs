@@ -3,7 +3,7 @@
 //! times. Load steps and time steps alike.
 
 use super::super::context::Context;
-use super::super::equilibrium::{self, EmbeddedSigmaN, IncrementReport};
+use super::super::equilibrium::{self, IncrementReport, Purpose};
 use super::super::state::State;
 use super::progress::Stage;
 use crate::error::Error;
@@ -21,7 +21,7 @@ pub fn solved_or_cut_back(
     snapshot: &State,
     target: f64,
 ) -> Result<Option<IncrementReport>, Error> {
-    match equilibrium::increment(cx, &stage.dofs, state, EmbeddedSigmaN::Settled) {
+    match equilibrium::increment(cx, &stage.dofs, state, Purpose::Loading) {
         Ok(report) => Ok(Some(report)),
         Err(e) => {
             let progress = &mut stage.progress;

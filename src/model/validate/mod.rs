@@ -118,6 +118,7 @@ fn analysis_settings(file: &ModelFile, p: &mut Problems) {
     // counts bounded so that no model makes a run loop or allocate without a limit it names
     let counts = [
         ("max_iterations", a.max_iterations, 1, MAX_ITERATIONS),
+        ("stall_iterations", a.stall_iterations, 0, MAX_ITERATIONS),
         ("max_cutbacks", a.max_cutbacks, 0, MAX_CUTBACKS),
         ("reserved_segments", a.reserved_segments, 0, MAX_RESERVED_SEGMENTS),
     ];
