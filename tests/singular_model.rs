@@ -26,3 +26,28 @@ fn every_backend_names_the_free_node_of_a_singular_model() {
         assert!(message.contains("run-singular-hanging-bar.toml"), "{backend:?}: {message}");
     }
 }
+
+/// The same model with the soil made Duncan–Chang and Newton's iteration: a nonlinear-elastic soil
+/// always gives its own tangent, so falling back to the elastic soil stiffness (the recovery for a
+/// yielded tangent) leaves the matrix singular; the next singular matrix is diagnosed, within the
+/// increment, instead of every iteration falling back again.
+#[test]
+fn a_hyperbolic_soil_names_the_free_node_too() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/bad-models/run-singular-hanging-bar.toml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let text = text
+        .replace(
+            "youngs_modulus = 10000.0\npoissons_ratio = 0.3\n",
+            "model = \"duncan-chang\"\ncohesion = 5.0\nfriction_angle = 30.0\n\
+             hyperbolic = { K = 300.0, n = 0.5, Rf = 0.8, Kb = 150.0, m = 0.25, Kur = 600.0 }\n",
+        )
+        .replace("[node_sets]", "[analysis]\nscheme = \"newton\"\n\n[node_sets]");
+    assert!(text.contains("duncan-chang") && text.contains("newton"));
+    let file = geoslip::model::parse(&path, &text).unwrap_or_else(|e| panic!("{e}"));
+    let model = Model::from_file(&path, &file).unwrap_or_else(|e| panic!("{e}"));
+    let options = RunOptions { backend: Backend::Dense, ..RunOptions::default() };
+    let err = analysis::run(&model, &options, &mut Collect::default()).expect_err("the model is singular");
+    let message = err.to_string();
+    assert!(message.contains("singular"), "{message}");
+    assert!(message.contains("node 7 uy"), "{message}");
+}

@@ -71,7 +71,9 @@ pub fn recover(
         cx.stats.warnings.add(Warning::SlidingTangentSingular);
         return Ok(Recovered::NewMatrix);
     }
-    if singular.yielded_soil {
+    // (once: a Duncan–Chang or hardening soil gives its own tangent even on the elastic fallback,
+    // so a matrix still singular on it is the model's)
+    if singular.yielded_soil && !matches!(fallbacks.soil_tangent, Tangent::Elastic | Tangent::Committed) {
         fallbacks.soil_tangent = Tangent::Elastic;
         cx.stats.warnings.add(Warning::YieldedTangentSingular);
         return Ok(Recovered::NewMatrix);
