@@ -108,7 +108,7 @@ impl IncrementError {
                     match stalled {
                         Some(n) => format!(
                             "The last increment was given up after {n} iterations in which the residual did not fall \
-                             (stall_iterations). "
+                             (a larger stall_iterations, or 0, lets it iterate on). "
                         ),
                         None => String::new(),
                     }
