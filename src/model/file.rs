@@ -141,7 +141,8 @@ pub struct AnalysisSettings {
     pub displacement_tolerance: f64,
     pub max_iterations: usize,
     /// Give an increment up (and cut it back) after this many iterations in which its
-    /// out-of-balance force did not fall below 99 % of its smallest so far (0: never).
+    /// out-of-balance force did not fall below 99 % of its value at the last iteration that made
+    /// progress (0: never).
     pub stall_iterations: usize,
     /// How many times a failing increment may be halved.
     pub max_cutbacks: usize,
