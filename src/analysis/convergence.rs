@@ -161,11 +161,14 @@ impl Measures {
         }
     }
 
+    /// The out-of-balance force below which the forces balance: the tolerance times the
+    /// reference, or the round-off floor.
+    pub fn threshold(&self, settings: &AnalysisSettings) -> f64 {
+        (settings.force_tolerance * self.reference).max(self.floor)
+    }
+
     pub fn converged(&self, settings: &AnalysisSettings) -> bool {
-        self.settled
-            && self.residual <= (settings.force_tolerance * self.reference).max(self.floor)
-            && self.gaps_closed
-            && self.displacement_ok
+        self.settled && self.residual <= self.threshold(settings) && self.gaps_closed && self.displacement_ok
     }
 }
 

@@ -67,8 +67,7 @@ pub(super) fn check(
         let measures = Measures::of(&checked, &element, deferred.floor, state, dofs);
         cx.stats.residual_seconds += t.elapsed().as_secs_f64();
         it.last_residual = Some((measures.residual, measures.reference));
-        let threshold = (settings.force_tolerance * measures.reference).max(measures.floor);
-        if let Some(n) = it.progress.stalled(measures.residual, threshold) {
+        if let Some(n) = it.progress.stalled(measures.residual, measures.threshold(settings)) {
             return Err(not_converged(cx, dofs, state, it, iteration, 0, Some(n)));
         }
         let last = iteration == settings.max_iterations;
@@ -118,7 +117,7 @@ pub(super) fn check(
             operator_force,
         }));
     }
-    let stalled = it.progress.stalled(residual, (settings.force_tolerance * reference).max(measures.floor));
+    let stalled = it.progress.stalled(residual, measures.threshold(settings));
     if stalled.is_some() || iteration == settings.max_iterations {
         return Err(not_converged(cx, dofs, state, it, iteration, soil_trial.yielding, stalled));
     }

@@ -64,7 +64,7 @@ pub(super) struct Iterations {
     pub condensed_solve: bool,
     /// The interface iteration under way ([`condensation::Deferred`]).
     pub deferred: Option<Deferred>,
-    /// The smallest residual so far and the iterations since ([`stall`](super::stall)).
+    /// The residual at the last progress and the iterations since ([`stall`](super::stall)).
     pub progress: Progress,
 }
 

@@ -4,10 +4,10 @@
 //! elastic and plastic, and back, with the same two residuals for ever) or wanders without getting
 //! closer to equilibrium, the rest of `max_iterations` changes nothing: the increment is cut back
 //! as soon as its out-of-balance force has not fallen below [`PROGRESS`] of its value at the last
-//! progress in `stall_iterations` iterations. Slow but steady convergence (a constant-stiffness iteration, a
-//! linearly converging Newton one) sets a new smallest within a few iterations and goes on; an
-//! iterate whose residual is already within the tolerance (waiting for the interface points or the
-//! displacement correction to settle) is never stalled.
+//! progress in `stall_iterations` iterations. Slow but steady convergence (a constant-stiffness
+//! iteration, a linearly converging Newton one) makes progress within a few iterations and goes
+//! on; an iterate whose residual is already within the tolerance (waiting for the interface points
+//! or the displacement correction to settle) is never stalled.
 
 /// The share of the residual at the last progress that a residual must fall below to count as
 /// progress.
