@@ -40,6 +40,7 @@ mod run_timings;
 pub mod series;
 mod step_tables;
 mod summary;
+mod targets;
 pub mod vtk;
 mod writer;
 mod writer_thread;

@@ -1,8 +1,10 @@
 //! `summary.json`: what a run was, how it went and where its results are.
 
+use super::options::{FieldPrecision, OutputOptions};
 use crate::analysis::RunStats;
 use crate::analysis::StepRecord;
 use crate::model::file::Direction;
+use crate::model::{Model, UnitLabels};
 use crate::timing::Timings;
 
 /// The peak reaction of one prescribed target (a pull-out force, a footing load).
@@ -50,6 +52,56 @@ pub struct RunSummary {
     /// Where the time went, phase by phase: over the whole process when the program said when it
     /// started (`geoslip run`, `geoslip bench`), from the result writer's start otherwise.
     pub timings: Timings,
+}
+
+impl RunSummary {
+    /// The summary of a run of `model` that is starting, on `solver`, its field files `files`.
+    pub fn starting(
+        model: &Model,
+        solver: &str,
+        options: &OutputOptions,
+        units: &UnitLabels,
+        files: Vec<String>,
+    ) -> RunSummary {
+        RunSummary {
+            geoslip_version: env!("CARGO_PKG_VERSION"),
+            model: model.source.display().to_string(),
+            title: model.title.clone(),
+            status: "running".into(),
+            error: None,
+            solver: solver.into(),
+            units: serde_json::json!({
+            "length": units.length, "force": units.force,
+            "force_per_width": units.force_per_width, "stress": units.stress,
+            "geometry": model.mesh.geometry,
+            "forces": if model.mesh.geometry.is_axisymmetric() { "total over the circumference" } else { "per metre width" } }),
+            unknowns: Unknowns {
+                nodes: model.mesh.nodes.len(),
+                soil_elements: model.mesh.solids.len(),
+                bars: model.mesh.bars.len(),
+                interface_points: model.interfaces.iter().flat_map(|i| &i.faces).map(|f| f.points.len()).sum(),
+            },
+            notes: model.notes.clone(),
+            events: Vec::new(),
+            factors_of_safety: Vec::new(),
+            fields: FieldFiles {
+                files,
+                csv: options.csv,
+                keep: options.keep.to_string(),
+                precision: options.writes_hdf5().then_some(match options.precision {
+                    FieldPrecision::Single => "single",
+                    FieldPrecision::Double => "double",
+                }),
+                kept_steps: Vec::new(),
+            },
+            steps: Vec::new(),
+            solver_stats: RunStats::default(),
+            total_seconds: 0.0,
+            write_seconds: 0.0,
+            writer_thread_seconds: None,
+            timings: Timings::default(),
+        }
+    }
 }
 
 /// The files that hold the fields of the kept steps.

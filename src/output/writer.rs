@@ -10,9 +10,10 @@ use super::run_timings;
 use super::writer_thread::{self, WriterThread};
 use super::{checkpoints, events, grids, pace, report, step_tables, vtk};
 
-use super::options::{self, OutputOptions};
+use super::options::OutputOptions;
 use super::owned_folder::OwnedFolder;
-use super::summary::{FieldFiles, RunSummary, TargetPeak, Unknowns};
+use super::summary::{RunSummary, TargetPeak};
+use super::targets::{TargetStep, Targets};
 
 use super::history::{self, HistoryRow};
 use super::kept_steps::{HeldStep, HeldSteps};
@@ -21,19 +22,11 @@ use crate::analysis::results::StepResults;
 use crate::analysis::RunStats;
 use crate::analysis::{StepRecord, StepSink};
 use crate::error::Error;
-use crate::model::file::Direction;
 use crate::model::{Model, UnitLabels};
-use crate::timing::{Phase, Timings};
+use crate::timing::Phase;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::Instant;
-
-/// A prescribed target followed through the run: its mean displacement and total reaction.
-struct Target {
-    label: String,
-    nodes: Vec<usize>,
-    direction: Direction,
-}
 
 /// Writes each step under `<out>/stage-<k>-<name>/step-<nnn>/` and keeps `summary.json` and
 /// `history.csv` current.
@@ -42,12 +35,9 @@ pub struct ResultWriter {
     /// The output folder's handle: every file of the run is written through it.
     folder: OwnedFolder,
     units: UnitLabels,
-    targets: Vec<Target>,
+    /// The prescribed targets, and the peaks of their reactions.
+    targets: Targets,
     history: Vec<HistoryRow>,
-    /// Largest |reaction| so far per target, and whether a drop from it was reported.
-    peak_reaction: Vec<(f64, bool)>,
-    /// The target's displacement where its reaction peaked.
-    peak_displacement: Vec<f64>,
     /// What has happened so far, and each stage's end.
     events: events::Events,
     /// Profiles along each reinforcement, per step, for the plots.
@@ -84,10 +74,7 @@ impl ResultWriter {
     /// The prescribed targets the history follows: (label, `x` or `y`, nodes). Its displacement is
     /// the mean over the nodes, its reaction the sum.
     pub fn targets(&self) -> Vec<(String, &'static str, Vec<usize>)> {
-        self.targets
-            .iter()
-            .map(|t| (t.label.clone(), if t.direction == Direction::X { "x" } else { "y" }, t.nodes.clone()))
-            .collect()
+        self.targets.list()
     }
 
     /// A writer of every step's fields in the build's default files (no per-step CSV files).
@@ -140,21 +127,7 @@ impl ResultWriter {
         let created = Instant::now();
         let out = folder.path().to_path_buf();
         let out = out.as_path();
-        let mut targets = Vec::new();
-        for stage in &model.stages {
-            for &(n, d, _) in &stage.prescribed {
-                let set = model.node_sets.iter().find(|(_, nodes)| nodes.contains(&n)).map(|(name, _)| name.clone());
-                let label = set.unwrap_or_else(|| format!("node {}", model.mesh.node_id(n)));
-                match targets.iter_mut().find(|t: &&mut Target| t.label == label && t.direction == d) {
-                    Some(t) => {
-                        if !t.nodes.contains(&n) {
-                            t.nodes.push(n)
-                        }
-                    }
-                    None => targets.push(Target { label, nodes: vec![n], direction: d }),
-                }
-            }
-        }
+        let targets = Targets::of_model(model);
         let units = model.unit_labels();
         if let Some(generated) = model.mesh_source.as_ref().and_then(|m| m.generated.as_ref()) {
             folder.write("mesh.msh", &generated.msh)?;
@@ -170,7 +143,7 @@ impl ResultWriter {
         let mut writer = ResultWriter {
             vtk: options.writes_vtu().then(|| vtk::VtkWriter::new(folder.path())),
             thread: None,
-            held: HeldSteps::new(targets.len()),
+            held: HeldSteps::new(targets.count()),
             pace: pace::Pace::default(),
             created,
             opening_seconds: 0.0,
@@ -187,8 +160,6 @@ impl ResultWriter {
             out: out.to_path_buf(),
             folder: folder.clone(),
             motion: None,
-            peak_reaction: vec![(0.0, false); targets.len()],
-            peak_displacement: vec![0.0; targets.len()],
             targets,
             history: Vec::new(),
             profiles: Vec::new(),
@@ -209,44 +180,7 @@ impl ResultWriter {
                     })
                 })
                 .collect(),
-            summary: RunSummary {
-                geoslip_version: env!("CARGO_PKG_VERSION"),
-                model: model.source.display().to_string(),
-                title: model.title.clone(),
-                status: "running".into(),
-                error: None,
-                solver: solver.into(),
-                units: serde_json::json!({
-                    "length": units.length, "force": units.force,
-                    "force_per_width": units.force_per_width, "stress": units.stress,
-                    "geometry": model.mesh.geometry,
-                    "forces": if model.mesh.geometry.is_axisymmetric() { "total over the circumference" } else { "per metre width" } }),
-                unknowns: Unknowns {
-                    nodes: model.mesh.nodes.len(),
-                    soil_elements: model.mesh.solids.len(),
-                    bars: model.mesh.bars.len(),
-                    interface_points: model.interfaces.iter().flat_map(|i| &i.faces).map(|f| f.points.len()).sum(),
-                },
-                notes: model.notes.clone(),
-                events: Vec::new(),
-                factors_of_safety: Vec::new(),
-                fields: FieldFiles {
-                    files,
-                    csv: options.csv,
-                    keep: options.keep.to_string(),
-                    precision: options.writes_hdf5().then_some(match options.precision {
-                        options::FieldPrecision::Single => "single",
-                        options::FieldPrecision::Double => "double",
-                    }),
-                    kept_steps: Vec::new(),
-                },
-                steps: Vec::new(),
-                solver_stats: RunStats::default(),
-                total_seconds: 0.0,
-                write_seconds: 0.0,
-                writer_thread_seconds: None,
-                timings: Timings::default(),
-            },
+            summary: RunSummary::starting(model, solver, options, &units, files),
             units,
         };
         writer.motion = MotionHistory::new(model, writer.reinforcements.iter().map(|r| r.name.clone()).collect());
@@ -255,13 +189,9 @@ impl ResultWriter {
         writer.write_summary()?;
         #[cfg(feature = "hdf5")]
         let hdf5 = {
-            let labels: Vec<(String, &str)> = writer
-                .targets
-                .iter()
-                .map(|t| (t.label.clone(), if t.direction == Direction::X { "x" } else { "y" }))
-                .collect();
+            let labels = writer.targets.labels();
             let history: Vec<results_h5::HistoryTarget<'_>> =
-                labels.iter().map(|(label, direction)| results_h5::HistoryTarget { label, direction }).collect();
+                labels.iter().map(|&(label, direction)| results_h5::HistoryTarget { label, direction }).collect();
             let results = results_h5::Hdf5Results::create(
                 &writer.folder,
                 &model.title,
@@ -285,16 +215,7 @@ impl ResultWriter {
 
     /// Each prescribed target's largest |reaction| so far, and the displacement where it occurred.
     pub fn peak_reactions(&self) -> Vec<TargetPeak> {
-        self.targets
-            .iter()
-            .enumerate()
-            .map(|(i, t)| TargetPeak {
-                label: t.label.clone(),
-                direction: t.direction,
-                reaction: self.peak_reaction[i].0,
-                displacement: self.peak_displacement[i],
-            })
-            .collect()
+        self.targets.peaks()
     }
 
     /// The output folder, as the user named it.
@@ -497,42 +418,18 @@ impl StepSink for ResultWriter {
         let index = self.summary.steps.len();
         let mut event = self.events.of_step(record, index, &mut self.summary.events, &mut self.marked_steps);
         // the targets' displacement and reaction; a new peak, or a fall from one
-        let mut values = Vec::with_capacity(self.targets.len());
-        let (mut peaked, mut fell) = (Vec::new(), Vec::new());
-        for (ti, t) in self.targets.iter().enumerate() {
-            let d = |n: usize| 2 * n + if t.direction == Direction::X { 0 } else { 1 };
-            let mean_u = t.nodes.iter().map(|&n| results.displacement_vector[d(n)]).sum::<f64>() / t.nodes.len() as f64;
-            let reaction: f64 = t.nodes.iter().map(|&n| results.reaction_vector[d(n)]).sum();
-            let (peak, reported) = self.peak_reaction[ti];
-            if peak > 0.0 && !reported && reaction.abs() < 0.98 * peak {
-                self.summary.events.push(format!(
-                    "{when}: the reaction on {} ({}) fell to {:.4} at displacement {:.5}, from its peak {:.4} at displacement {:.5}",
-                    t.label,
-                    if t.direction == Direction::X { "x" } else { "y" },
-                    reaction.abs(),
-                    mean_u,
-                    peak,
-                    self.peak_displacement[ti]
-                ));
-                self.peak_reaction[ti].1 = true; // once per peak
-                event = true;
-                fell.push(ti);
-            } else if reaction.abs() > peak {
-                self.peak_reaction[ti] = (reaction.abs(), false);
-                self.peak_displacement[ti] = mean_u;
-                peaked.push(ti);
-            }
-            self.history.push(HistoryRow {
-                stage: record.stage.clone(),
-                step: record.step,
-                load_factor: record.load_factor,
-                target: t.label.clone(),
-                direction: if t.direction == Direction::X { "x" } else { "y" },
-                displacement: mean_u,
-                reaction,
-            });
-            values.push((mean_u, reaction));
-        }
+        let TargetStep { rows, values, peaked, fell } = self.targets.observe(record, results, &when);
+        self.history.extend(rows);
+        #[cfg(not(feature = "hdf5"))]
+        let _ = values; // (results.h5's history only)
+        let fell: Vec<usize> = fell
+            .into_iter()
+            .map(|(ti, text)| {
+                self.summary.events.push(text);
+                ti
+            })
+            .collect();
+        event |= !fell.is_empty();
         // what the summary, the report and the figures say of the step, before any of its files is
         // handed over (a write that fails leaves them all with the step)
         self.profiles.push(StepProfile {
@@ -612,24 +509,10 @@ impl ResultWriter {
 
     /// What the figures are drawn from: the history of each prescribed target, the profiles.
     fn figures(&self) -> figures::Figures<'_> {
-        let curves = self
-            .targets
-            .iter()
-            .map(|t| {
-                let dir = if t.direction == Direction::X { "x" } else { "y" };
-                let points = self
-                    .history
-                    .iter()
-                    .filter(|h| h.target == t.label && h.direction == dir)
-                    .map(|h| (h.displacement, h.reaction))
-                    .collect();
-                (t.label.as_str(), dir, points)
-            })
-            .collect();
         figures::Figures {
             folder: &self.folder,
             units: &self.units,
-            curves,
+            curves: self.targets.curves(&self.history),
             profiles: &self.profiles,
             marked_steps: &self.marked_steps,
             reinforcements: self.reinforcements.iter().map(|nodes| nodes.name.as_str()).collect(),
