@@ -69,13 +69,17 @@ impl DofMap {
         self.free_count + k
     }
 
-    /// A readable name for unknown `eq`: `node 12 uy`, or `the normal multiplier of interface
+    /// A readable name for unknown `eq`: `node 12 uy (at x = 1.500, y = 0.300)`, or `the normal
+    /// multiplier of interface
     /// "grid-1" (upper face) at node 40`.
     pub fn describe(&self, eq: usize, mesh: &Mesh, interfaces: &[Interface]) -> String {
         if eq < self.free_count {
             if let Some(dof) = self.equation.iter().position(|e| *e == Some(eq)) {
                 let dir = if dof % 2 == 0 { "ux" } else { "uy" };
-                return format!("node {} {dir}", mesh.node_id(dof / 2));
+                // (with its position: a node that splitting a reinforcement's line made is not
+                // in the user's mesh file)
+                let [x, y] = mesh.position(dof / 2);
+                return format!("node {} {dir} (at x = {x:.3}, y = {y:.3})", mesh.node_id(dof / 2));
             }
         } else if let Some(m) = self.multipliers.get(eq - self.free_count) {
             let i = &interfaces[m.interface];

@@ -6,7 +6,9 @@
 //! tests/bad-models/run-singular-hanging-bar.toml: its free bar node is node 7, so every backend must
 //! report "node 7 uy" as singular: the dense reference through its zero pivot, MUMPS through
 //! PIVNUL_LIST (INFOG(28) > 0 with ICNTL(24) = 1), UMFPACK through its singular-matrix warning and faer
-//! through the residual check, both followed by geoslip's structural diagnosis.
+//! through the residual check, both followed by geoslip's structural diagnosis. The node is named
+//! with its position (3, 1) from the model's node list, and, the matrix being singular at the
+//! model's start, at once (not cut back).
 
 use geoslip::analysis::{self, Collect, RunOptions};
 use geoslip::linsol::Backend;
@@ -22,8 +24,11 @@ fn every_backend_names_the_free_node_of_a_singular_model() {
         let err = analysis::run(&model, &options, &mut Collect::default()).expect_err("the model is singular");
         let message = err.to_string();
         assert!(message.contains("singular"), "{backend:?}: {message}");
-        assert!(message.contains("node 7 uy"), "{backend:?}: {message}");
+        assert!(message.contains("node 7 uy (at x = 3.000, y = 1.000)"), "{backend:?}: {message}");
         assert!(message.contains("run-singular-hanging-bar.toml"), "{backend:?}: {message}");
+        // singular at the last equilibrium (the model's start): the model's, named at once, not
+        // cut back as a matrix singular where an iteration went would be
+        assert!(matches!(err, geoslip::Error::Solve { .. }), "{backend:?}: {message}");
     }
 }
 
@@ -50,4 +55,5 @@ fn a_hyperbolic_soil_names_the_free_node_too() {
     let message = err.to_string();
     assert!(message.contains("singular"), "{message}");
     assert!(message.contains("node 7 uy"), "{message}");
+    assert!(matches!(err, geoslip::Error::Solve { .. }), "{message}");
 }

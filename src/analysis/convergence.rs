@@ -20,6 +20,14 @@ use crate::model::AnalysisSettings;
 /// Why an increment failed, before the stage and step are known.
 pub enum IncrementError {
     Solve(SolveError),
+    /// The matrix was singular beyond the recoveries at an iterate that had left the last
+    /// equilibrium (a slack sheet come loose from the soil, a local mechanism the iterate ran
+    /// into): a smaller increment may not go there. At the last equilibrium itself the singular
+    /// matrix is the model's, and [`IncrementError::Solve`] names what is unconstrained at once.
+    SingularIterate {
+        iteration: usize,
+        source: SolveError,
+    },
     /// A number that is not finite appeared in an iteration.
     NonFinite {
         iteration: usize,
@@ -41,6 +49,9 @@ impl IncrementError {
     pub fn describe(&self) -> String {
         match self {
             IncrementError::Solve(e) => format!("the solve failed: {e}"),
+            IncrementError::SingularIterate { iteration, source } => {
+                format!("the matrix at iteration {iteration}, away from the last equilibrium, was singular: {source}")
+            }
             IncrementError::NonFinite { iteration, first } => {
                 format!("a non-finite number ({}) in iteration {iteration}, first in {}", first.value, first.location)
             }
@@ -65,7 +76,12 @@ impl IncrementError {
 
     /// A failure that a smaller increment may cure (an overflow from too large a step may be).
     pub fn retryable(&self) -> bool {
-        matches!(self, IncrementError::NotConverged { .. } | IncrementError::NonFinite { .. })
+        matches!(
+            self,
+            IncrementError::NotConverged { .. }
+                | IncrementError::NonFinite { .. }
+                | IncrementError::SingularIterate { .. }
+        )
     }
 
     /// The run's error, at a stage and step.
@@ -74,6 +90,14 @@ impl IncrementError {
             IncrementError::Solve(source) => {
                 Error::Solve { file: file.to_path_buf(), stage: stage.to_string(), step, source }
             }
+            IncrementError::SingularIterate { iteration, source } => Error::SingularIterate {
+                file: file.to_path_buf(),
+                stage: stage.to_string(),
+                step,
+                iteration,
+                cutbacks,
+                source,
+            },
             IncrementError::NonFinite { iteration, first } => Error::NonFinite {
                 file: file.to_path_buf(),
                 stage: stage.to_string(),

@@ -176,9 +176,15 @@ name = "load"
         triplets.push(1, 0, f64::NAN);
         let first = in_system(&iterate, &rhs, &triplets).unwrap();
         assert!(first.value.is_nan());
-        assert_eq!(first.location, "the matrix entry of node 3 uy against node 3 ux");
+        assert_eq!(
+            first.location,
+            "the matrix entry of node 3 uy (at x = 1.000, y = 1.000) against node 3 ux (at x = 1.000, y = 1.000)"
+        );
         rhs[2] = f64::NEG_INFINITY;
-        assert_eq!(in_system(&iterate, &rhs, &triplets).unwrap().location, "the out-of-balance force at node 4 ux");
+        assert_eq!(
+            in_system(&iterate, &rhs, &triplets).unwrap().location,
+            "the out-of-balance force at node 4 ux (at x = 0.000, y = 1.000)"
+        );
         let x = [0.0, 0.0, 0.0, f64::NAN];
         assert!(in_solution(&iterate, &x).unwrap().location.starts_with("the solution for node 4 uy"));
     }

@@ -11,7 +11,9 @@
 //! 3. Normal rows that depend on other rows (after a re-association, two reinforcement nodes tied to
 //!    the same pair of soil nodes) are set aside, reported, and the iteration retried.
 //!
-//! Anything else is a mechanism of the model.
+//! Anything else is a mechanism: of the model when the matrix is that of the last equilibrium
+//! (named at once), or of where the iteration went when a correction had moved the iterate from
+//! it (the increment is then cut back, and the mechanism named if the cutbacks run out).
 
 use super::context::Context;
 use super::convergence::{cap, IncrementError};
@@ -48,6 +50,9 @@ pub struct SingularMatrix<'a> {
     pub sliding: bool,
     /// Some soil element gave the matrix a tangent other than its elastic matrix.
     pub yielded_soil: bool,
+    /// The iteration, when the iterate has left the last equilibrium (a correction was applied in
+    /// this increment): a matrix still singular there is cut back, not the model's.
+    pub away_at: Option<usize>,
 }
 
 /// How the iteration goes on.
@@ -100,14 +105,11 @@ pub fn recover(
         return Ok(Recovered::RowsSetAside(changes));
     }
     let backend = cx.system.backend().name();
-    Err(IncrementError::Solve(diagnose(
-        backend,
-        cx.model,
-        &state.interfaces,
-        dofs,
-        singular.triplets,
-        singular.equations,
-    )))
+    let source = diagnose(backend, cx.model, &state.interfaces, dofs, singular.triplets, singular.equations);
+    Err(match singular.away_at {
+        Some(iteration) => IncrementError::SingularIterate { iteration, source },
+        None => IncrementError::Solve(source),
+    })
 }
 
 /// Beyond this ratio of the largest to the smallest stiffness on the diagonal, a factorisation in

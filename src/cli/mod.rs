@@ -50,7 +50,7 @@ fn exit_code(e: &crate::Error) -> ExitCode {
     use crate::Error::*;
     ExitCode::from(match e {
         Read { .. } | Parse { .. } | Model(_) | Restart { .. } => exit::BAD_INPUT,
-        NotConverged { .. } | NonFinite { .. } => exit::NOT_CONVERGED,
+        NotConverged { .. } | NonFinite { .. } | SingularIterate { .. } => exit::NOT_CONVERGED,
         Solve { .. } | Backend(_) => exit::SOLVER,
         Write { .. } => exit::WRITE,
         Stopped { .. } => exit::NOT_CONVERGED,

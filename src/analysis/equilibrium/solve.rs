@@ -161,6 +161,7 @@ fn solve_full(
                 equations,
                 sliding: linear.springs.iter().any(|r| r.sliding),
                 yielded_soil: linear.soil_trial.tangents.iter().any(|t| t.is_some()),
+                away_at: it.last_residual.is_some().then_some(it.iteration),
             };
             match singular::recover(cx, dofs, state, &mut it.fallbacks, singular)? {
                 Recovered::NewMatrix => cx.system_key = None,
