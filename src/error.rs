@@ -155,9 +155,9 @@ pub enum Error {
     #[error("{}: stage \"{stage}\", step {step}: {source}", .file.display())]
     Solve { file: PathBuf, stage: String, step: usize, source: SolveError },
     #[error(
-        "{}: stage \"{stage}\", step {step}: no equilibrium: the matrix at iteration {iteration}, \
-         away from the last equilibrium, is singular ({source}); after {cutbacks} cutbacks. Try more \
-         load factors in this stage", .file.display()
+        "{}: stage \"{stage}\", step {step}: no equilibrium: at iteration {iteration}, away from the \
+         last equilibrium, {source}; after {cutbacks} cutbacks. Try more load factors in this stage",
+        .file.display()
     )]
     SingularIterate { file: PathBuf, stage: String, step: usize, iteration: usize, cutbacks: usize, source: SolveError },
     #[error(

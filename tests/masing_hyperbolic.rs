@@ -162,14 +162,21 @@ fn a_block_driven_through_loops_follows_the_masing_curves_at_every_step() {
     assert!((last - tau_a).abs() < 1e-9 * TF, "the outer loop closes at F(8 mm): {last}");
 }
 
+/// Under both schemes. With Newton's, the first step after a reversal runs into a singular matrix
+/// where its iterations wander, and is cut back (before, that stopped the run), so that scheme takes
+/// more, smaller steps, each on the same curves.
 #[test]
 fn a_block_driven_by_a_cyclic_force_slips_on_the_inverse_masing_curves() {
+    for scheme in [Scheme::ConstantStiffness, Scheme::Newton] {
+        block_driven_by_a_cyclic_force(scheme);
+    }
+}
+
+fn block_driven_by_a_cyclic_force(scheme: Scheme) {
     const T: f64 = 8.0;
     let mut file = common::block_on_rigid_base(LAW_SPEC, 10.0, 0.0, vec![1.0]);
     file.materials.soil.insert("soil".into(), SoilMaterial::linear_elastic(1.0e9, 0.3, 0.0));
-    // (the constant-stiffness scheme: with the Newton scheme the first step after the reversal
-    // finds the system singular, a defect still open)
-    file.analysis.scheme = Scheme::ConstantStiffness;
+    file.analysis.scheme = scheme;
     file.analysis.max_iterations = 400;
     file.stages[0].prescribed.clear();
     file.stages[1].prescribed.clear();
@@ -197,11 +204,16 @@ fn a_block_driven_by_a_cyclic_force_slips_on_the_inverse_masing_curves() {
             1 => s1 + 2.0 * backbone_slip((tau - T) / 2.0),
             _ => -s1 + 2.0 * backbone_slip((tau + T) / 2.0),
         };
-        assert!((slip - expected).abs() < 1e-5 * s1, "branch {segment}, τ = {tau}: slip {slip} against {expected}");
+        assert!(
+            (slip - expected).abs() < 1e-5 * s1,
+            "{scheme:?}, branch {segment}, τ = {tau}: slip {slip} against {expected}"
+        );
         checked += 1;
         if record.reversal {
             segment += 1;
         }
     }
-    assert_eq!((segment, checked), (2, 50), "two reversals, fifty steps");
+    // fifty steps of 0.1 in the history, more where one was cut back
+    assert_eq!(segment, 2, "{scheme:?}: two reversals");
+    assert!(checked >= 50, "{scheme:?}: {checked} steps");
 }

@@ -50,7 +50,7 @@ impl IncrementError {
         match self {
             IncrementError::Solve(e) => format!("the solve failed: {e}"),
             IncrementError::SingularIterate { iteration, source } => {
-                format!("the matrix at iteration {iteration}, away from the last equilibrium, was singular: {source}")
+                format!("at iteration {iteration}, away from the last equilibrium, {source}")
             }
             IncrementError::NonFinite { iteration, first } => {
                 format!("a non-finite number ({}) in iteration {iteration}, first in {}", first.value, first.location)
