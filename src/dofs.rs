@@ -69,9 +69,8 @@ impl DofMap {
         self.free_count + k
     }
 
-    /// A readable name for unknown `eq`: `node 12 uy (at x = 1.500, y = 0.300)`, or `the normal
-    /// multiplier of interface
-    /// "grid-1" (upper face) at node 40`.
+    /// A readable name for unknown `eq`: `node 12 uy (at x = 1.500, y = 0.300)`, or
+    /// `the normal multiplier of interface "grid-1" (upper face) at node 40`.
     pub fn describe(&self, eq: usize, mesh: &Mesh, interfaces: &[Interface]) -> String {
         if eq < self.free_count {
             if let Some(dof) = self.equation.iter().position(|e| *e == Some(eq)) {
