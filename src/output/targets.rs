@@ -5,6 +5,7 @@ use super::history::HistoryRow;
 use super::summary::TargetPeak;
 use crate::analysis::results::StepResults;
 use crate::analysis::StepRecord;
+use crate::dofs::dof;
 use crate::model::file::Direction;
 use crate::model::Model;
 
@@ -107,7 +108,7 @@ impl Targets {
     pub fn observe(&mut self, record: &StepRecord, results: &StepResults, when: &str) -> TargetStep {
         let mut step = TargetStep { rows: Vec::new(), values: Vec::new(), peaked: Vec::new(), fell: Vec::new() };
         for (ti, t) in self.targets.iter().enumerate() {
-            let d = |n: usize| 2 * n + if t.direction == Direction::X { 0 } else { 1 };
+            let d = |n: usize| dof(n, t.direction);
             let mean_u = t.nodes.iter().map(|&n| results.displacement_vector[d(n)]).sum::<f64>() / t.nodes.len() as f64;
             let reaction: f64 = t.nodes.iter().map(|&n| results.reaction_vector[d(n)]).sum();
             let (peak, reported) = self.peak_reaction[ti];

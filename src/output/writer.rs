@@ -422,14 +422,12 @@ impl StepSink for ResultWriter {
         self.history.extend(rows);
         #[cfg(not(feature = "hdf5"))]
         let _ = values; // (results.h5's history only)
-        let fell: Vec<usize> = fell
-            .into_iter()
-            .map(|(ti, text)| {
-                self.summary.events.push(text);
-                ti
-            })
-            .collect();
         event |= !fell.is_empty();
+        let mut fallen = Vec::with_capacity(fell.len());
+        for (ti, text) in fell {
+            self.summary.events.push(text);
+            fallen.push(ti);
+        }
         // what the summary, the report and the figures say of the step, before any of its files is
         // handed over (a write that fails leaves them all with the step)
         self.profiles.push(StepProfile {
@@ -463,7 +461,7 @@ impl StepSink for ResultWriter {
         for ti in peaked {
             self.held.peaks[ti] = held.clone();
         }
-        for ti in fell {
+        for ti in fallen {
             if let Some(peak) = self.held.peaks[ti].take() {
                 self.write_held(model, &peak)?;
             }
