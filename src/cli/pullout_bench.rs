@@ -91,9 +91,6 @@ pub struct PulloutMeasurement {
     /// BiCGSTAB iterations on the dense interface system while it drifts.
     #[serde(default)]
     pub dense_iterations: usize,
-    /// Refinements of interface solves with hierarchical factors.
-    #[serde(default)]
-    pub dense_refinements: usize,
     pub solves: usize,
     pub output_seconds: f64,
     /// The first run's time in the result writer on the run's own thread (the summary's
@@ -255,7 +252,6 @@ pub fn measure_pullout(
             m.factorizations = s.solver.factorizations;
             m.dense_factorizations = s.solver.dense_factorizations;
             m.dense_iterations = s.solver.dense_iterations;
-            m.dense_refinements = s.solver.dense_refinements;
             m.solves = s.solver.solves;
             m.output_seconds = s.output_seconds;
             m.writer_thread_seconds = writer.summary.writer_thread_seconds;

@@ -39,9 +39,6 @@ pub struct SolverStats {
     /// BiCGSTAB iterations on interface systems that drifted from the last factorisation (each
     /// preconditioned by it: `linsol/condensed/updated_lu.rs`).
     pub dense_iterations: usize,
-    /// Refinements of interface solves with hierarchical factors (`linsol/condensed/hierarchical.rs`),
-    /// each one product with the interface system and one solve with the factors.
-    pub dense_refinements: usize,
     pub dense_seconds: f64,
     /// The part of `dense_seconds` in the factorisations, and in the BiCGSTAB iterations.
     pub dense_factorization_seconds: f64,

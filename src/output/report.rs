@@ -311,13 +311,6 @@ fn run_history(r: &mut String, summary: &RunSummary) {
             "The interface iteration condensed the soil onto {kept} kept unknowns: {} dense factorisations, {} low-rank updates and {} BiCGSTAB iterations preconditioned by the last factorisation ({:.3} s with its solves).",
             st.solver.dense_factorizations, st.solver.dense_updates, st.solver.dense_iterations, st.solver.dense_seconds
         );
-        if st.solver.dense_refinements > 0 {
-            let _ = writeln!(
-                r,
-                "Its larger factorisations were hierarchical, to a tolerance: their solves took {} refinements against the interface system.",
-                st.solver.dense_refinements
-            );
-        }
     }
 
     let _ = writeln!(r, "\n## Re-associations\n");

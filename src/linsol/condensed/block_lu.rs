@@ -20,16 +20,10 @@
 //! The unknowns that stand alone on their diagonal (a released multiplier, a point of a slit
 //! still covered by the reinforcement: x_j = b_j / c_jj) are left out of both.
 //!
-//! A T of [`hierarchical::FROM_ORDER`] unknowns or more is factorised hierarchically
-//! (`hierarchical.rs`) instead of densely: its factors are then M's to a tolerance, and the test
-//! solve below may take up to [`REFINEMENTS`] refinements to pass; where it does not, T is
-//! factorised densely.
-//!
 //! Every block factorisation is checked on one solve (its relative residual on M at most
 //! [`BLOCK_CHECK`]); where it fails (A_RR singular or badly conditioned where M is not), the
 //! coupled unknowns are factorised densely together instead, as they were before this split.
 
-use super::hierarchical::{self, Hierarchical};
 use super::kept_matrix::KeptMatrix;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::lu::partial_pivoting::{factor, solve};
@@ -43,9 +37,6 @@ use std::collections::HashMap;
 /// The relative residual ‖M·x − b‖/‖b‖ a block factorisation must meet on its test solve (a
 /// direct dense solve's is 1e-15 to 1e-13 here).
 pub const BLOCK_CHECK: f64 = 1e-11;
-/// The refinements with hierarchical factors that the test solve, and any solve with them
-/// (`updated_lu.rs`), may take to reach its residual.
-pub const REFINEMENTS: usize = 4;
 
 /// The factors of one kept matrix.
 #[derive(Debug)]
@@ -65,12 +56,6 @@ pub struct BlockLu {
     factors: Mat<f64>,
     forward: Vec<usize>,
     inverse: Vec<usize>,
-    /// T's hierarchical factors in place of the dense ones (T of [`hierarchical::FROM_ORDER`]
-    /// unknowns or more): then the factors are M's to a tolerance, not exact.
-    hierarchical: Option<Hierarchical>,
-    /// Whether T may be factorised hierarchically, and from which order.
-    allow_hierarchical: bool,
-    hierarchical_from: usize,
 }
 
 impl BlockLu {
@@ -86,37 +71,9 @@ impl BlockLu {
             factors: Mat::zeros(0, 0),
             forward: Vec::new(),
             inverse: Vec::new(),
-            hierarchical: None,
-            allow_hierarchical: true,
-            hierarchical_from: hierarchical::FROM_ORDER,
         };
         lu.refactorize(matrix);
         lu
-    }
-
-    /// The factors of `matrix`, T hierarchical from order `from` up.
-    #[cfg(test)]
-    pub fn hierarchical_from(matrix: KeptMatrix, from: usize) -> BlockLu {
-        let mut lu = BlockLu::of(matrix);
-        lu.hierarchical_from = from;
-        lu.refactorize(matrix);
-        lu
-    }
-
-    /// The exact factors of `matrix`: T factorised densely, never hierarchically.
-    pub fn exact(matrix: KeptMatrix) -> BlockLu {
-        let mut lu = BlockLu::of(KeptMatrix { schur: matrix.schur, change: matrix.change });
-        if !lu.is_exact() {
-            lu.allow_hierarchical = false;
-            lu.refactorize(matrix);
-        }
-        lu
-    }
-
-    /// Whether the factors are M's exactly (to round-off), not to the hierarchical factors'
-    /// tolerance.
-    pub fn is_exact(&self) -> bool {
-        self.hierarchical.is_none()
     }
 
     /// The factors of `matrix` (of the same order) in place of the last ones.
@@ -148,33 +105,14 @@ impl BlockLu {
             }
         }
         let sparse = eliminable(matrix, &coupled);
-        let mut hierarchical = self.allow_hierarchical;
-        if !sparse.is_empty() {
-            if hierarchical && self.factorize_blocks(matrix, &coupled, sparse.clone(), true) {
-                return;
-            }
-            if self.factorize_blocks(matrix, &coupled, sparse, false) {
-                return;
-            }
-            // (R's elimination failed: the whole coupled block is T, and it is factorised densely,
-            // which does not depend on R)
-            hierarchical = false;
-        }
-        if hierarchical && self.factorize_blocks(matrix, &coupled, Vec::new(), true) {
+        if !sparse.is_empty() && self.factorize_blocks(matrix, &coupled, sparse) {
             return;
         }
-        self.factorize_blocks(matrix, &coupled, Vec::new(), false);
+        self.factorize_blocks(matrix, &coupled, Vec::new());
     }
 
-    /// Factorise with `sparse` as R, T hierarchically where `hierarchical` allows it and T is
-    /// large enough; whether the factors passed their check (always, with R empty and T dense).
-    fn factorize_blocks(
-        &mut self,
-        matrix: KeptMatrix,
-        coupled: &[usize],
-        sparse: Vec<usize>,
-        hierarchical: bool,
-    ) -> bool {
+    /// Factorise with `sparse` as R; whether the factors passed their check (always, with R empty).
+    fn factorize_blocks(&mut self, matrix: KeptMatrix, coupled: &[usize], sparse: Vec<usize>) -> bool {
         let m = matrix.order();
         const NONE: usize = usize::MAX;
         let (mut in_sparse, mut in_dense) = (vec![NONE; m], vec![NONE; m]);
@@ -187,7 +125,6 @@ impl BlockLu {
         }
         self.sparse = sparse;
         self.sparse_lu = None;
-        self.hierarchical = None;
         self.dense_by_sparse.clear();
         self.sparse_by_dense.clear();
         // the old factors go before the new are made
@@ -247,13 +184,7 @@ impl BlockLu {
             self.sparse_lu = Some(lu);
         }
         let order = self.dense.len();
-        if hierarchical && order >= self.hierarchical_from {
-            // (the dense array keeps T, and is the next factorisation's)
-            match Hierarchical::of(self.factors.as_ref()) {
-                Some(h) => self.hierarchical = Some(h),
-                None => return false,
-            }
-        } else if order > 0 {
+        if order > 0 {
             let par = get_global_parallelism();
             let mut scratch =
                 MemBuffer::new(factor::lu_in_place_scratch::<usize, f64>(order, order, par, Default::default()));
@@ -266,25 +197,16 @@ impl BlockLu {
                 Default::default(),
             );
         }
-        if self.sparse.is_empty() && self.hierarchical.is_none() {
+        if self.sparse.is_empty() {
             return true;
         }
         // one test solve on M: the elimination of R is trusted only where it solves M as a dense
-        // factorisation would, and hierarchical factors where they do so within a few refinements
+        // factorisation would
         let w = Mat::from_fn(m, 1, |j, _| 1.0 + (j % 7) as f64 / 7.0);
         let b = matrix.times(w.as_ref());
-        let mut x = self.solve(&b);
-        let mut residual = &b - matrix.times(x.as_ref());
-        if self.hierarchical.is_some() {
-            for _ in 0..REFINEMENTS {
-                if residual.norm_l2() <= BLOCK_CHECK * b.norm_l2() {
-                    break;
-                }
-                x += self.solve(&residual);
-                residual = &b - matrix.times(x.as_ref());
-            }
-        }
-        residual.norm_l2() <= BLOCK_CHECK * b.norm_l2()
+        let x = self.solve(&b);
+        let residual = (&b - matrix.times(x.as_ref())).norm_l2() / b.norm_l2();
+        residual <= BLOCK_CHECK
     }
 
     /// The order of the dense factors (D).
@@ -315,9 +237,7 @@ impl BlockLu {
             }
         }
         let order = self.dense.len();
-        if let Some(h) = &self.hierarchical {
-            h.solve_in_place(y.as_mut());
-        } else if order > 0 {
+        if order > 0 {
             let par = get_global_parallelism();
             let mut scratch = MemBuffer::new(solve::solve_in_place_scratch::<usize, f64>(order, columns, par));
             let permutation = PermRef::new_checked(&self.forward, &self.inverse, order);
@@ -545,26 +465,6 @@ mod tests {
         let x = lu.solve(&b);
         let r = residual(&f, &c, &x, &b);
         assert!(r < 1e-13, "at {angle} rad: relative residual {r}");
-    }
-
-    #[test]
-    fn a_large_t_is_factorised_hierarchically_and_refinement_reaches_a_direct_solves_residual() {
-        let (soil, nodes) = (360, 120);
-        let (f, c) = interface(soil, nodes, 0.3);
-        let change = SparseColumns::from_entries(f.nrows(), c.iter().copied());
-        let schur = SoilSchur::from_dense(f.as_ref());
-        let matrix = KeptMatrix { schur: &schur, change: &change };
-        let lu = BlockLu::hierarchical_from(matrix, 200);
-        assert!(!lu.is_exact(), "T of {} unknowns, hierarchical from 200", lu.dense_order());
-        let b = Mat::from_fn(f.nrows(), 1, |i, _| ((i * 5) as f64 * 0.13).cos());
-        let mut x = lu.solve(&b);
-        let mut r = residual(&f, &c, &x, &b);
-        for _ in 0..REFINEMENTS {
-            x += lu.solve(&(&b - matrix.times(x.as_ref())));
-            r = residual(&f, &c, &x, &b);
-        }
-        // a dense solve's residual (the tolerance a refined solve is held to: 1e-13)
-        assert!(r < 1e-13, "relative residual after {REFINEMENTS} refinements {r}");
     }
 
     #[test]

@@ -20,9 +20,7 @@
 //!    is the same;
 //! 4. S held as a dense block and its few entries outside it (`SoilSchur`), C by columns, and the
 //!    kept system M = S + C as an operator (`kept_matrix.rs`);
-//! 5. M's factorisation, its sparse unknowns eliminated first and the rest dense (`block_lu.rs`),
-//!    or hierarchical when the rest is large (`hierarchical.rs`: factors to a tolerance, each solve
-//!    with them refined against M);
+//! 5. M's factorisation, its sparse unknowns eliminated first and the rest dense (`block_lu.rs`);
 //! 6. M kept across changes of C: a low-rank update, BiCGSTAB preconditioned by the last
 //!    factorisation, or a new factorisation (`updated_lu.rs`);
 //! 7. a whole solve: condense, solve densely, expand, checked against L + C itself and refined
@@ -36,7 +34,6 @@ pub(in crate::linsol) mod condensing;
 mod coupled;
 mod elimination;
 mod fallback;
-mod hierarchical;
 mod kept;
 mod kept_matrix;
 mod parts;

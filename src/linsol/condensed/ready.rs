@@ -41,7 +41,7 @@ pub(super) struct InterfaceLu {
     lu: UpdatedLu,
     /// The factorisations, updates and iterations of `lu` already added to the run's counts, and
     /// the seconds of its factorisations and iterations.
-    counted: [usize; 4],
+    counted: [usize; 3],
     counted_seconds: [f64; 2],
 }
 
@@ -96,7 +96,7 @@ impl<'a> Ready<'a> {
                     None => InterfaceLu {
                         key: interface.key,
                         lu: UpdatedLu::new(schur, change),
-                        counted: [0; 4],
+                        counted: [0; 3],
                         counted_seconds: [0.0; 2],
                     },
                 };
@@ -192,11 +192,10 @@ impl Refinable for Ready<'_> {
 /// Add the interface factorisation's factorisations, updates and iterations since the last tally,
 /// and their times, to the run's counts.
 fn tally(interface: &mut InterfaceLu, stats: &mut SolverStats) {
-    let now = [interface.lu.factorizations, interface.lu.updates, interface.lu.iterations, interface.lu.refinements];
+    let now = [interface.lu.factorizations, interface.lu.updates, interface.lu.iterations];
     stats.dense_factorizations += now[0] - interface.counted[0];
     stats.dense_updates += now[1] - interface.counted[1];
     stats.dense_iterations += now[2] - interface.counted[2];
-    stats.dense_refinements += now[3] - interface.counted[3];
     interface.counted = now;
     let seconds = [interface.lu.factorization_seconds, interface.lu.iteration_seconds];
     stats.dense_factorization_seconds += seconds[0] - interface.counted_seconds[0];

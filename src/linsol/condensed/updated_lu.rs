@@ -22,13 +22,8 @@
 //! solves a matrix has had so far predict that iterating on it would (the constant-stiffness
 //! scheme solves one matrix many times: it factorises; Newton's solves each matrix once or twice:
 //! it iterates), or when a solve does not converge within [`MAX_ITERATIONS`].
-//!
-//! Hierarchical factors (`hierarchical.rs`) are M's to a tolerance only: each solve with them is
-//! refined against M itself to [`ITERATIVE_TOLERANCE`], and a solve that refinement does not bring
-//! there within [`REFINEMENTS`] factorises M exactly (densely) instead. Being cheap, they are made
-//! afresh for a drifted matrix after [`HIERARCHICAL_ITERATIONS_PER_FACTORISATION`] iterations.
 
-use super::block_lu::{BlockLu, REFINEMENTS};
+use super::block_lu::BlockLu;
 use super::kept_matrix::{KeptMatrix, SoilSchur, SparseColumns};
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::solvers::{PartialPivLu, Solve};
@@ -48,9 +43,6 @@ pub const MAX_ITERATIONS: usize = 6;
 /// Newton runs at two budgets. Since then both shrank by about the same factor (the dense LU is of
 /// 1265 unknowns and S's product of its 1016-unknown block): not measured again.
 pub const ITERATIONS_PER_FACTORISATION: usize = 8;
-/// The same for hierarchical factors, which cost a fraction of a dense LU of T
-/// (`hierarchical.rs`): a matrix that drifted is factorised afresh rather than iterated on.
-pub const HIERARCHICAL_ITERATIONS_PER_FACTORISATION: usize = 2;
 
 /// The update of the base factorisation by the changed columns J.
 struct LowRank {
@@ -81,12 +73,7 @@ pub struct UpdatedLu {
     pub factorizations: usize,
     pub updates: usize,
     pub iterations: usize,
-    /// Refinements of solves with hierarchical factors, and factorisations made exact because
-    /// refinement did not reach the tolerance.
-    pub refinements: usize,
-    pub exact_refactorizations: usize,
     pub factorization_seconds: f64,
-    /// The time in the BiCGSTAB iterations and in the refinements.
     pub iteration_seconds: f64,
 }
 
@@ -108,8 +95,6 @@ impl UpdatedLu {
             factorizations: 1,
             updates: 0,
             iterations: 0,
-            refinements: 0,
-            exact_refactorizations: 0,
             factorization_seconds,
             iteration_seconds: 0.0,
         }
@@ -136,7 +121,7 @@ impl UpdatedLu {
         if columns.len() as f64 > MAX_UPDATE_SHARE * m as f64 {
             self.update = None;
             let predicted = self.solves_per_matrix * self.iterations_per_solve;
-            let budget = self.budget() as f64;
+            let budget = ITERATIONS_PER_FACTORISATION as f64;
             if self.iterations_since as f64 >= budget || predicted >= budget {
                 self.refactorize(schur, change);
             } else {
@@ -167,15 +152,6 @@ impl UpdatedLu {
         };
     }
 
-    /// BiCGSTAB iterations that cost about one factorisation of the kind the factors are.
-    fn budget(&self) -> usize {
-        if self.lu.is_exact() {
-            ITERATIONS_PER_FACTORISATION
-        } else {
-            HIERARCHICAL_ITERATIONS_PER_FACTORISATION
-        }
-    }
-
     /// Factorise S + `change` as the new M₀, in the old factors' array.
     fn refactorize(&mut self, schur: &SoilSchur, change: SparseColumns) {
         self.update = None;
@@ -191,7 +167,7 @@ impl UpdatedLu {
     /// M⁻¹ b for the matrix now represented (S the same as in [`UpdatedLu::set`]).
     pub fn solve(&mut self, schur: &SoilSchur, b: &Mat<f64>) -> Mat<f64> {
         self.solves_of_this += 1;
-        if self.iterations_since >= self.budget() {
+        if self.iterations_since >= ITERATIONS_PER_FACTORISATION {
             if let Some(change) = self.drifted.take() {
                 self.refactorize(schur, change);
             }
@@ -211,48 +187,7 @@ impl UpdatedLu {
                 None => self.refactorize(schur, change),
             }
         }
-        if self.lu.is_exact() {
-            return self.solve_exactly(b);
-        }
-        if let Some(x) = self.refined(schur, b) {
-            return x;
-        }
-        // hierarchical factors that refinement cannot bring to the tolerance: exact ones
-        let change = self.change().clone();
-        self.update = None;
-        self.drifted = None;
-        let t = Instant::now();
-        self.lu = BlockLu::exact(KeptMatrix { schur, change: &change });
-        self.factorization_seconds += t.elapsed().as_secs_f64();
-        self.base = change;
-        self.iterations_since = 0;
-        self.factorizations += 1;
-        self.exact_refactorizations += 1;
         self.solve_exactly(b)
-    }
-
-    /// M⁻¹ b with hierarchical factors, refined against M (at most [`REFINEMENTS`] times) to a
-    /// relative residual of [`ITERATIVE_TOLERANCE`], as an iterative solve's; none when it is not
-    /// reached.
-    fn refined(&mut self, schur: &SoilSchur, b: &Mat<f64>) -> Option<Mat<f64>> {
-        let t = Instant::now();
-        let mut x = self.solve_exactly(b);
-        let matrix = KeptMatrix { schur, change: self.change() };
-        let target = ITERATIVE_TOLERANCE * b.norm_l2();
-        let mut done = None;
-        for refinement in 0..=REFINEMENTS {
-            let r = b - matrix.times(x.as_ref());
-            if r.norm_l2() <= target {
-                done = Some(refinement);
-                break;
-            }
-            if refinement < REFINEMENTS {
-                x += self.solve_exactly(&r);
-            }
-        }
-        self.refinements += done.unwrap_or(REFINEMENTS);
-        self.iteration_seconds += t.elapsed().as_secs_f64();
-        done.map(|_| x)
     }
 
     /// M⁻¹ b with the factors: exactly for M₀ and its low-rank update.
