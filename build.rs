@@ -7,6 +7,9 @@
 //! succeeds and runs on faer and the dense reference.
 
 fn main() {
+    // (what it reads is geoslip-sys's metadata, which cargo tracks: without this line every change
+    // of any file of the package, a test or a document, would run it again and rebuild the library)
+    println!("cargo:rerun-if-changed=build.rs");
     println!("cargo::rustc-check-cfg=cfg(geoslip_mumps)");
     println!("cargo::rustc-check-cfg=cfg(geoslip_umfpack)");
     let found = |name: &str| std::env::var(format!("DEP_GEOSLIP_NATIVE_{name}")).is_ok_and(|v| v == "1");
