@@ -14,8 +14,9 @@
 #      what differs in it: the commands, the .vtu output, killed runs, the paper's examples);
 # and the Python package (python/, PyO3 + maturin) with its pytest tests against the CLI and the
 # parameter-study example (maturin, pytest, NumPy and matplotlib from PyPI into target/python-env).
-# It first checks the code's layout (scripts/check-imports.py) and that docs/architecture.md names
-# every source file (scripts/check-architecture.py).
+# The tests run under cargo-nextest where it is installed (tests of different binaries side by
+# side), else under cargo test. It first checks the code's layout (scripts/check-imports.py) and
+# that docs/architecture.md names every source file (scripts/check-architecture.py).
 # This is the command the README gives and the one CI runs (.ci/run).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -66,10 +67,25 @@ if [ "$native_expected" = 1 ]; then
     case " $backends " in *" $b "*) ;; *) echo "error: $b was not built although its packages are installed"; exit 1 ;; esac
   done
 fi
+# cargo-nextest, where it is installed, runs tests of different binaries side by side on the
+# machine's cores (.config/nextest.toml names the tests that run alone); cargo test runs the
+# binaries one after another. Either runs every test.
+run_tests() {
+  if cargo nextest --version >/dev/null 2>&1; then
+    cargo nextest run --locked --no-tests=warn "$@"
+  else
+    cargo test --locked "$@"
+  fi
+}
+
 echo "== full build: tests${features[*]:+ (${features[*]})}"
 # each test that a document quotes records its numbers here (tests/common/mod.rs, doc_number)
 rm -rf target/doc-numbers
-GEOSLIP_DOC_NUMBERS="$PWD/target/doc-numbers" cargo test --workspace --locked "${features[@]}"
+GEOSLIP_DOC_NUMBERS="$PWD/target/doc-numbers" run_tests --workspace "${features[@]}"
+if cargo nextest --version >/dev/null 2>&1; then
+  # (nextest does not run documentation examples)
+  cargo test --workspace --locked "${features[@]}" --doc
+fi
 
 echo "== the numbers the README and docs quote from runs, against the runs"
 python3 scripts/doc-numbers.py --geoslip target/debug/geoslip --measured target/doc-numbers
@@ -107,7 +123,7 @@ fi
 echo "== build without native libraries and without HDF5: unit tests and the tests of what differs"
 # every integration test ran above on faer and dense as well; here the build itself, the commands,
 # the .vtu output read back, killed runs without HDF5, and the paper's examples on this build
-GEOSLIP_NO_NATIVE=1 cargo test --locked -p geoslip-sys
-GEOSLIP_NO_NATIVE=1 cargo test --locked -p geoslip --lib --bins --test cli --test vtk_readback \
+GEOSLIP_NO_NATIVE=1 run_tests -p geoslip-sys
+GEOSLIP_NO_NATIVE=1 run_tests -p geoslip --lib --bins --test cli --test vtk_readback \
   --test killed_runs --test paper_examples --test kept_steps --test untrusted_model_files
 echo "== all tests passed ($backends, and faer/dense alone)"
