@@ -70,8 +70,10 @@ fi
 # cargo-nextest, where it is installed, runs tests of different binaries side by side on the
 # machine's cores (.config/nextest.toml names the tests that run alone); cargo test runs the
 # binaries one after another. Either runs every test.
+nextest=0
+cargo nextest --version >/dev/null 2>&1 && nextest=1
 run_tests() {
-  if cargo nextest --version >/dev/null 2>&1; then
+  if [ "$nextest" = 1 ]; then
     cargo nextest run --locked --no-tests=warn "$@"
   else
     cargo test --locked "$@"
@@ -82,7 +84,7 @@ echo "== full build: tests${features[*]:+ (${features[*]})}"
 # each test that a document quotes records its numbers here (tests/common/mod.rs, doc_number)
 rm -rf target/doc-numbers
 GEOSLIP_DOC_NUMBERS="$PWD/target/doc-numbers" run_tests --workspace "${features[@]}"
-if cargo nextest --version >/dev/null 2>&1; then
+if [ "$nextest" = 1 ]; then
   # (nextest does not run documentation examples)
   cargo test --workspace --locked "${features[@]}" --doc
 fi

@@ -75,7 +75,7 @@ use std::sync::Mutex;
 use std::time::{Duration, Instant};
 use toml::Value;
 
-/// Cases of the fixed-seed test: about 20 s on two cores with the dev profile.
+/// Cases of the fixed-seed test: about 120 s on two cores with the dev profile.
 const DEFAULT_CASES: usize = 1000;
 const DEFAULT_SEED: u64 = 20;
 /// The longest `check` or `run` of one case may take: well above the slowest finite case (seed 20
