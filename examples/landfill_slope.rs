@@ -45,7 +45,7 @@ struct Keep {
 impl StepSink for Keep {
     fn step_done(
         &mut self,
-        model: &geoslip::model::Model,
+        _: &geoslip::model::Model,
         step: &StepResults,
         record: &StepRecord,
         _: &RunStats,

@@ -59,8 +59,12 @@ python3 scripts/check-imports.py
 python3 scripts/check-architecture.py
 
 echo "== full build: backends"
-cargo build --locked --quiet "${features[@]}"
-backends=$(cargo run --locked --quiet "${features[@]}" -- backends | tr '\n' ' ')
+# every build below names the whole workspace (--workspace), the Python module with it, so that
+# cargo gives the dependencies the same features each time and compiles each of them once: the
+# test build here, the Python module, the MPI build and the build without native libraries differ
+# only in what they change (tests/, python/, the mpi feature, geoslip-sys)
+cargo test --workspace --locked --quiet --no-run "${features[@]}"
+backends=$(target/debug/geoslip backends | tr '\n' ' ')
 echo "   $backends"
 if [ "$native_expected" = 1 ]; then
   for b in mumps umfpack; do
@@ -94,7 +98,8 @@ python3 scripts/doc-numbers.py --geoslip target/debug/geoslip --measured target/
 
 echo "== Python package: built by maturin into target/python-env, its tests (pytest) and the parameter study"
 # maturin, pytest, NumPy and matplotlib come from the package registry (PyPI); the module shares
-# target/ with the build above, so only geoslip itself and PyO3 are compiled again
+# target/ and the features with the build above (HDF5 results as well), so only PyO3 and the
+# module are compiled
 python3 -m venv target/python-env
 # without pip's cache (its temporary copies of the wheels need room beside target/), retried once
 # after a failed download
@@ -104,7 +109,7 @@ pip_install() {
 }
 pip_install || { echo "== the Python packages' download failed; trying once more"; sleep 10; pip_install; }
 (cd python && VIRTUAL_ENV="$PWD/../target/python-env" CARGO_TARGET_DIR="$PWD/../target" \
-  ../target/python-env/bin/maturin develop --locked --quiet)
+  ../target/python-env/bin/maturin develop --locked --quiet "${features[@]}")
 GEOSLIP_CLI="$PWD/target/debug/geoslip" target/python-env/bin/python -m pytest -q python/tests
 target/python-env/bin/python examples/python/parameter_study.py target/parameter-study.png
 
@@ -115,7 +120,7 @@ if command -v mpirun >/dev/null 2>&1 && [ -e /usr/lib/x86_64-linux-gnu/libdmumps
   # replaces target/debug/geoslip
   cp target/debug/geoslip target/geoslip-sequential
   GEOSLIP_SEQUENTIAL="$PWD/target/geoslip-sequential" \
-    cargo test --locked --features mpi --test mpi_agreement
+    cargo test --workspace --locked --features mpi --test mpi_agreement
 elif [ "$native_expected" = 1 ]; then
   echo "error: the MPI packages are installed but mpirun or libdmumps.so is missing"; exit 1
 else
@@ -125,7 +130,6 @@ fi
 echo "== build without native libraries and without HDF5: unit tests and the tests of what differs"
 # every integration test ran above on faer and dense as well; here the build itself, the commands,
 # the .vtu output read back, killed runs without HDF5, and the paper's examples on this build
-GEOSLIP_NO_NATIVE=1 run_tests -p geoslip-sys
-GEOSLIP_NO_NATIVE=1 run_tests -p geoslip --lib --bins --test cli --test vtk_readback \
+GEOSLIP_NO_NATIVE=1 run_tests --workspace --lib --bins --test cli --test vtk_readback \
   --test killed_runs --test paper_examples --test kept_steps --test untrusted_model_files
 echo "== all tests passed ($backends, and faer/dense alone)"
