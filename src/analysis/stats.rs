@@ -14,7 +14,7 @@ pub struct RunStats {
     pub iterations: usize,
     /// Time on interface points: rows, laws, active set, tributary clipping, re-association.
     pub interface_seconds: f64,
-    /// Time computing the out-of-balance force.
+    /// Time computing the out-of-balance force: the checks', and the line search's trial steps.
     pub residual_seconds: f64,
     /// Time computing and writing each step's results.
     pub output_seconds: f64,

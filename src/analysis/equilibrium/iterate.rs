@@ -10,6 +10,7 @@ use super::linearise::linearise;
 use super::solve::solve_iteration;
 use crate::dofs::DofMap;
 use crate::element::soil_state::Tangent;
+use std::time::Instant;
 
 /// Iterate one increment to equilibrium: linearise, solve, update, check; given up after
 /// `stall_iterations` iterations without progress (0: only after `max_iterations`).
@@ -32,7 +33,11 @@ pub(super) fn iterate(
         let Some(Solution { x, scale, rhs }) = solution else { continue };
         let step = if linear.soil_trial.yielding > 0 && !matches!(linear.tangent, Tangent::Elastic | Tangent::Committed)
         {
-            line_search(cx, dofs, state, &linear.rows, &x, scale, &rhs[..dofs.free_count])
+            // its trial steps are out-of-balance forces, timed with the check's
+            let t = Instant::now();
+            let step = line_search(cx, dofs, state, &linear.rows, &x, scale, &rhs[..dofs.free_count]);
+            cx.stats.residual_seconds += t.elapsed().as_secs_f64();
+            step
         } else {
             1.0
         };
